@@ -1,0 +1,59 @@
+#pragma once
+// Collects raw samples from any reader and turns them into flights: groups by (icao24, callsign), sorts
+// by time, drops exact duplicates, splits at gaps longer than limits::kFlightGapSeconds, and computes the
+// per-flight extents. Out-of-order input is fine; the builder sorts.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "trailscope/trails/trail_set.hpp"
+
+namespace trailscope {
+
+/// One raw sample in SI units. Unknown values are NaN (on_ground defaults to airborne).
+struct Sample {
+  static constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
+  double t = 0;                 ///< Unix seconds
+  float lat = 0, lon = 0;       ///< degrees
+  float alt = kUnknown;         ///< barometric altitude, metres
+  float speed = kUnknown;       ///< ground speed, m/s
+  float track = kUnknown;       ///< degrees from true north
+  float vrate = kUnknown;       ///< m/s, positive up
+  bool on_ground = false;
+};
+
+class TrailSetBuilder {
+ public:
+  /// Adds a sample of the aircraft (icao24, callsign). `icao24` is lower-cased and `callsign` trimmed
+  /// and upper-cased here. The caller validates ranges (see ingest/reject.hpp); the builder only
+  /// asserts finite time and position.
+  void add(std::string_view icao24, std::string_view callsign, const Sample& s);
+
+  /// Number of samples added so far (before deduplication).
+  std::size_t size() const { return samples_; }
+
+  struct Stats {
+    std::size_t duplicates = 0;  ///< samples dropped because an identical-time sample of the same aircraft came first
+    std::size_t splits = 0;      ///< extra flights created by gaps > kFlightGapSeconds
+  };
+
+  /// Builds the TrailSet; flights are ordered by start time (then icao24, callsign), so that flights
+  /// near in time are near in memory. Leaves the builder empty. `gap_seconds` overrides the split gap.
+  TrailSet build(Stats* stats = nullptr, double gap_seconds = -1.0);
+
+ private:
+  struct Key {
+    std::string icao24, callsign;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const noexcept;
+  };
+  std::unordered_map<Key, std::vector<Sample>, KeyHash> groups_;
+  std::size_t samples_ = 0;
+};
+
+}  // namespace trailscope

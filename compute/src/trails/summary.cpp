@@ -1,0 +1,277 @@
+#include "trailscope/trails/summary.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/blocked_range.h>
+
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope {
+
+namespace {
+constexpr double kFeet = 0.3048;
+constexpr double kSpeedBin = 0.25;  // m/s; percentiles are read from this histogram
+constexpr int kSpeedBins = 2400;    // up to 600 m/s; faster samples land in the last bin
+
+// Smallest "nice" bin width (seconds) giving at most `bins` bins over `span`.
+double nice_bin_seconds(double span, int bins) {
+  static constexpr std::array<double, 22> steps = {1,    2,    5,     10,    15,    30,    60,    120,
+                                                   300,  600,  900,   1800,  3600,  7200,  10800, 21600,
+                                                   43200, 86400, 172800, 604800, 1209600, 2592000};
+  const double want = span / bins;
+  for (double s : steps)
+    if (s >= want) return s;
+  return std::ceil(want / 86400.0) * 86400.0;
+}
+
+struct Acc {
+  std::uint64_t points = 0;
+  double t_min = std::numeric_limits<double>::infinity(), t_max = -std::numeric_limits<double>::infinity();
+  std::vector<std::uint64_t> time, alt, speed;
+  std::uint64_t speed_n = 0;
+  double speed_sum = 0, speed_min = std::numeric_limits<double>::infinity(), speed_max = -speed_min;
+
+  Acc(std::size_t time_bins, std::size_t alt_bins) : time(time_bins), alt(alt_bins), speed(kSpeedBins) {}
+  void merge(const Acc& o) {
+    points += o.points;
+    t_min = std::min(t_min, o.t_min), t_max = std::max(t_max, o.t_max);
+    for (std::size_t i = 0; i < time.size(); ++i) time[i] += o.time[i];
+    for (std::size_t i = 0; i < alt.size(); ++i) alt[i] += o.alt[i];
+    for (std::size_t i = 0; i < speed.size(); ++i) speed[i] += o.speed[i];
+    speed_n += o.speed_n, speed_sum += o.speed_sum;
+    speed_min = std::min(speed_min, o.speed_min), speed_max = std::max(speed_max, o.speed_max);
+  }
+};
+
+double percentile(const std::vector<std::uint64_t>& h, std::uint64_t n, double q) {
+  if (n == 0) return 0;
+  const double target = q * static_cast<double>(n);
+  double cum = 0;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    if (cum + h[i] >= target && h[i] > 0) return (i + (target - cum) / h[i]) * kSpeedBin;
+    cum += h[i];
+  }
+  return h.size() * kSpeedBin;
+}
+
+const char* unit_name(AltUnit u) { return u == AltUnit::ft ? "ft" : "m"; }
+}  // namespace
+
+Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
+  if (opts.bins < 1 || opts.bins > limits::kMaxHistogramBins)
+    throw invalid_argument("bins", "bins must lie in 1..1000");
+  if (opts.top_callsigns < 0 || opts.top_callsigns > limits::kMaxTopCallsigns)
+    throw invalid_argument("top", "top must lie in 0..100");
+  const auto& pts = set.points();
+  const auto& flights = set.flights();
+  Summary s;
+
+  // Time axis: the window when given, else the data extent.
+  const double lo = q.t0.value_or(set.t_min()), hi = q.t1.value_or(std::nextafter(set.t_max(), INFINITY));
+  const double bin = nice_bin_seconds(std::max(hi - lo, 1.0), opts.bins);
+  const double t_origin = std::floor(lo / bin) * bin;
+  const std::size_t time_bins = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil((hi - t_origin) / bin)));
+  const double alt_unit = opts.alt_unit == AltUnit::ft ? kFeet : 1.0;
+  const double alt_bin_w = opts.alt_unit == AltUnit::ft ? 1000.0 : 300.0;
+  // Altitude bins from 0 to the top of the data (at least one bin); negative altitudes go to bin 0.
+  double top_alt = 0;
+  for (const Flight& f : flights)
+    if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
+  const std::size_t alt_bins = static_cast<std::size_t>(top_alt / alt_unit / alt_bin_w) + 1;
+
+  std::vector<std::uint32_t> matched(flights.size(), 0);
+  Acc total = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, flights.size(), 16), Acc(time_bins, alt_bins),
+      [&](const tbb::blocked_range<std::size_t>& r, Acc acc) {
+        for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
+          const Flight& f = flights[fi];
+          if (!q.may_match(f)) continue;
+          std::uint32_t n = 0;
+          for (std::size_t i = f.begin; i < f.end; ++i) {
+            if (!q.matches_point(pts, i)) continue;
+            ++n;
+            const double t = pts.t[i];
+            acc.t_min = std::min(acc.t_min, t), acc.t_max = std::max(acc.t_max, t);
+            const auto tb = static_cast<std::size_t>((t - t_origin) / bin);
+            ++acc.time[std::min(tb, time_bins - 1)];
+            const float a = pts.alt[i];
+            if (a == a) {
+              const double ab = std::max(0.0, a / alt_unit / alt_bin_w);
+              ++acc.alt[std::min(static_cast<std::size_t>(ab), alt_bins - 1)];
+            }
+            const float v = pts.speed[i];
+            if (v == v) {
+              ++acc.speed_n, acc.speed_sum += v;
+              acc.speed_min = std::min<double>(acc.speed_min, v), acc.speed_max = std::max<double>(acc.speed_max, v);
+              const auto sb = static_cast<std::size_t>(std::max(0.0f, v) / kSpeedBin);
+              ++acc.speed[std::min<std::size_t>(sb, kSpeedBins - 1)];
+            }
+          }
+          matched[fi] = n;
+          acc.points += n;
+        }
+        return acc;
+      },
+      [](Acc a, const Acc& b) {
+        a.merge(b);
+        return a;
+      });
+
+  s.points = total.points;
+  if (total.points) s.t_min = total.t_min, s.t_max = total.t_max;
+  s.time_histogram = {t_origin, bin, std::move(total.time)};
+  s.altitude_histogram = {opts.alt_unit, alt_bin_w, 0.0, std::move(total.alt)};
+  s.speed.count = total.speed_n;
+  if (total.speed_n) {
+    s.speed.min = total.speed_min, s.speed.max = total.speed_max;
+    s.speed.mean = total.speed_sum / static_cast<double>(total.speed_n);
+    s.speed.p50 = std::clamp(percentile(total.speed, total.speed_n, 0.50), s.speed.min, s.speed.max);
+    s.speed.p95 = std::clamp(percentile(total.speed, total.speed_n, 0.95), s.speed.min, s.speed.max);
+  }
+
+  std::unordered_map<std::string_view, Summary::CallsignCount> by_callsign;
+  for (std::size_t fi = 0; fi < flights.size(); ++fi) {
+    if (!matched[fi]) continue;
+    ++s.flights;
+    auto& c = by_callsign[flights[fi].callsign];
+    ++c.flights, c.points += matched[fi];
+  }
+  std::vector<Summary::CallsignCount> all;
+  all.reserve(by_callsign.size());
+  for (auto& [name, c] : by_callsign) {
+    if (name.empty()) continue;
+    c.callsign = std::string(name);
+    all.push_back(std::move(c));
+  }
+  const std::size_t k = std::min<std::size_t>(opts.top_callsigns, all.size());
+  std::partial_sort(all.begin(), all.begin() + k, all.end(), [](const auto& a, const auto& b) {
+    return a.points != b.points ? a.points > b.points : a.callsign < b.callsign;
+  });
+  all.resize(k);
+  s.top_callsigns = std::move(all);
+  return s;
+}
+
+nlohmann::json Summary::to_json() const {
+  nlohmann::json top = nlohmann::json::array();
+  for (const auto& c : top_callsigns) top.push_back({{"callsign", c.callsign}, {"flights", c.flights}, {"points", c.points}});
+  return {
+      {"flights", flights},
+      {"points", points},
+      {"t_min", points ? nlohmann::json(t_min) : nlohmann::json()},
+      {"t_max", points ? nlohmann::json(t_max) : nlohmann::json()},
+      {"time_histogram",
+       {{"t0", time_histogram.t0}, {"bin_seconds", time_histogram.bin_seconds}, {"counts", time_histogram.counts}}},
+      {"altitude_histogram",
+       {{"unit", unit_name(altitude_histogram.unit)},
+        {"bin_width", altitude_histogram.bin_width},
+        {"min", altitude_histogram.min},
+        {"counts", altitude_histogram.counts}}},
+      {"speed",
+       {{"unit", "m/s"},
+        {"count", speed.count},
+        {"min", speed.min},
+        {"max", speed.max},
+        {"mean", speed.mean},
+        {"p50", speed.p50},
+        {"p95", speed.p95}}},
+      {"top_callsigns", std::move(top)},
+  };
+}
+
+FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, std::size_t page_size) {
+  if (page_size < 1 || page_size > limits::kMaxPageSize)
+    throw invalid_argument("page_size", "page_size must lie in 1..1000");
+  const auto& pts = set.points();
+  const auto& flights = set.flights();
+  std::vector<FlightRow> rows(flights.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, flights.size(), 16), [&](const auto& r) {
+    for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
+      const Flight& f = flights[fi];
+      if (!q.may_match(f)) continue;
+      FlightRow& row = rows[fi];
+      row.alt_max_m = std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t i = f.begin; i < f.end; ++i) {
+        if (!q.matches_point(pts, i)) continue;
+        if (!row.points++) row.t_start = pts.t[i];
+        row.t_end = pts.t[i];
+        const float a = pts.alt[i];
+        if (a == a && !(a <= row.alt_max_m)) row.alt_max_m = a;
+      }
+      row.id = static_cast<std::uint32_t>(fi);
+    }
+  });
+  std::vector<FlightRow> hits;
+  for (auto& r : rows)
+    if (r.points) hits.push_back(std::move(r));
+  std::stable_sort(hits.begin(), hits.end(), [](const FlightRow& a, const FlightRow& b) {
+    return a.t_start != b.t_start ? a.t_start < b.t_start : a.id < b.id;
+  });
+  FlightPage out;
+  out.total = hits.size(), out.page = page, out.page_size = page_size;
+  const std::size_t first = std::min(hits.size(), page * page_size);
+  const std::size_t last = std::min(hits.size(), first + page_size);
+  for (std::size_t i = first; i < last; ++i) {
+    hits[i].icao24 = flights[hits[i].id].icao24;
+    hits[i].callsign = flights[hits[i].id].callsign;
+    out.flights.push_back(std::move(hits[i]));
+  }
+  return out;
+}
+
+nlohmann::json FlightPage::to_json() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& r : flights)
+    list.push_back({{"id", r.id},
+                    {"icao24", r.icao24},
+                    {"callsign", r.callsign},
+                    {"t_start", r.t_start},
+                    {"t_end", r.t_end},
+                    {"points", r.points},
+                    {"alt_max_m", std::isnan(r.alt_max_m) ? nlohmann::json() : nlohmann::json(r.alt_max_m)}});
+  return {{"total", total}, {"page", page}, {"page_size", page_size}, {"flights", std::move(list)}};
+}
+
+nlohmann::json flight_geojson(const TrailSet& set, std::size_t flight_id, const Query& q, bool clip,
+                              std::size_t max_points) {
+  if (flight_id >= set.num_flights())
+    throw not_found("flight_id", "flight " + std::to_string(flight_id) + " does not exist in this dataset");
+  const Flight& f = set.flights()[flight_id];
+  const auto& p = set.points();
+  std::vector<std::size_t> keep;
+  for (std::size_t i = f.begin; i < f.end; ++i)
+    if (!clip || q.matches_point(p, i)) keep.push_back(i);
+  if (keep.size() > max_points)
+    throw Error(Error::Kind::payload_too_large, "max_points",
+                "flight has " + std::to_string(keep.size()) + " points, more than max_points=" +
+                    std::to_string(max_points));
+  const auto num = [](float v) { return v == v ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json coords = nlohmann::json::array(), times = nlohmann::json::array(),
+                 alts = nlohmann::json::array(), speeds = nlohmann::json::array();
+  for (std::size_t i : keep) {
+    nlohmann::json c = {p.lon[i], p.lat[i]};
+    if (p.alt[i] == p.alt[i]) c.push_back(p.alt[i]);
+    coords.push_back(std::move(c));
+    times.push_back(p.t[i]);
+    alts.push_back(num(p.alt[i]));
+    speeds.push_back(num(p.speed[i]));
+  }
+  return {{"type", "Feature"},
+          {"geometry", {{"type", "LineString"}, {"coordinates", std::move(coords)}}},
+          {"properties",
+           {{"id", flight_id},
+            {"icao24", f.icao24},
+            {"callsign", f.callsign},
+            {"times", std::move(times)},
+            {"altitudes_m", std::move(alts)},
+            {"speeds_ms", std::move(speeds)}}}};
+}
+
+}  // namespace trailscope

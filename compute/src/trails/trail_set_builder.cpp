@@ -1,0 +1,106 @@
+#include "trailscope/trails/trail_set_builder.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <functional>
+#include <tuple>
+
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope {
+
+std::size_t TrailSetBuilder::KeyHash::operator()(const Key& k) const noexcept {
+  return std::hash<std::string>()(k.icao24) * 31u ^ std::hash<std::string>()(k.callsign);
+}
+
+namespace {
+std::string normalise(std::string_view s, bool upper) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  std::string out(s.substr(b, e - b));
+  for (char& c : out)
+    c = static_cast<char>(upper ? std::toupper(static_cast<unsigned char>(c))
+                                : std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// Appends one flight made of samples[b, e) (time-sorted) to the columns and the flight list.
+void append_flight(const std::string& icao24, const std::string& callsign, const std::vector<Sample>& s,
+                   std::size_t b, std::size_t e, PointColumns& cols, std::vector<Flight>& flights) {
+  Flight f;
+  f.icao24 = icao24;
+  f.callsign = callsign;
+  f.begin = static_cast<std::uint32_t>(cols.size());
+  for (std::size_t i = b; i < e; ++i) {
+    const Sample& p = s[i];
+    cols.t.push_back(p.t), cols.lat.push_back(p.lat), cols.lon.push_back(p.lon);
+    cols.alt.push_back(p.alt), cols.speed.push_back(p.speed), cols.track.push_back(p.track);
+    cols.vrate.push_back(p.vrate), cols.on_ground.push_back(p.on_ground ? 1 : 0);
+  }
+  f.end = static_cast<std::uint32_t>(cols.size());
+  compute_extents(f, cols);
+  flights.push_back(std::move(f));
+}
+}  // namespace
+
+void TrailSetBuilder::add(std::string_view icao24, std::string_view callsign, const Sample& s) {
+  if (!std::isfinite(s.t) || !std::isfinite(s.lat) || !std::isfinite(s.lon))
+    throw Error(Error::Kind::internal, "", "TrailSetBuilder::add: non-finite time or position");
+  groups_[Key{normalise(icao24, false), normalise(callsign, true)}].push_back(s);
+  ++samples_;
+}
+
+TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds) {
+  if (gap_seconds <= 0) gap_seconds = limits::kFlightGapSeconds;
+  if (samples_ > std::numeric_limits<std::uint32_t>::max())
+    throw Error(Error::Kind::payload_too_large, "", "a dataset holds at most 2^32-1 points");
+  Stats local;
+  // Flights are emitted in start-time order, so gather (start, key, range) first.
+  struct Piece {
+    double t0;
+    const Key* key;
+    std::vector<Sample>* samples;
+    std::size_t b, e;
+  };
+  std::vector<Piece> pieces;
+  pieces.reserve(groups_.size());
+  for (auto& [key, samples] : groups_) {
+    // Stable sort keeps the first of equal-time samples, which is the one kept below.
+    std::stable_sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) { return a.t < b.t; });
+    std::size_t w = 0;
+    for (std::size_t r = 0; r < samples.size(); ++r) {
+      if (w > 0 && samples[r].t == samples[w - 1].t) {
+        ++local.duplicates;
+        continue;
+      }
+      samples[w++] = samples[r];
+    }
+    samples.resize(w);
+    std::size_t b = 0;
+    for (std::size_t i = 1; i <= samples.size(); ++i) {
+      if (i == samples.size() || samples[i].t - samples[i - 1].t > gap_seconds) {
+        pieces.push_back({samples[b].t, &key, &samples, b, i});
+        if (i != samples.size()) ++local.splits;
+        b = i;
+      }
+    }
+  }
+  std::sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {
+    return std::tie(a.t0, a.key->icao24, a.key->callsign, a.b) <
+           std::tie(b.t0, b.key->icao24, b.key->callsign, b.b);
+  });
+  PointColumns cols;
+  cols.reserve(samples_ - local.duplicates);
+  std::vector<Flight> flights;
+  flights.reserve(pieces.size());
+  for (const Piece& p : pieces) append_flight(p.key->icao24, p.key->callsign, *p.samples, p.b, p.e, cols, flights);
+  groups_.clear();
+  samples_ = 0;
+  if (stats) *stats = local;
+  return TrailSet(std::move(cols), std::move(flights));
+}
+
+}  // namespace trailscope

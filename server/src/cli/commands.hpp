@@ -1,0 +1,28 @@
+#pragma once
+// The CLI verbs of `trailscope`. Each add_* registers one subcommand with its options and --help text;
+// the callback does the work and throws trailscope::Error on bad input (main prints it, exits 2).
+#include <map>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace trailscope::cli {
+
+void add_serve(CLI::App& app);
+void add_ingest(CLI::App& app);
+void add_query(CLI::App& app);
+void add_tile(CLI::App& app);
+void add_demo(CLI::App& app);
+
+/// The airspace-window filters shared by `query` and `tile` (--bbox --t0 --t1 --alt-min --alt-max
+/// --alt-unit --icao24 --callsign --on-ground), collected as the REST API's parameter map so that
+/// both go through the same parse_query().
+struct QueryFlags {
+  std::map<std::string, std::string> params;
+  void add_to(CLI::App& cmd);
+};
+
+/// Default data folder: $TRAILSCOPE_DATA_DIR, else ./data.
+std::string default_data_dir();
+
+}  // namespace trailscope::cli

@@ -1,0 +1,50 @@
+#include <filesystem>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/progress_bar.hpp"
+#include "store/dataset_ingest.hpp"
+#include "store/embedded_store.hpp"
+
+namespace trailscope::cli {
+
+void add_ingest(CLI::App& app) {
+  auto* cmd = app.add_subcommand("ingest", "Ingest an ADS-B file (OpenSky CSV, traffic JSON, SO6, readsb trace; plain or gzip) as a dataset");
+  struct Opts {
+    std::string file, data_dir = default_data_dir(), name, format;
+    bool json = false, quiet = false;
+  };
+  auto o = std::make_shared<Opts>();
+  cmd->add_option("FILE", o->file, "input file")->required();
+  cmd->add_option("--data-dir", o->data_dir, "store folder")->capture_default_str();
+  cmd->add_option("--name", o->name, "dataset id (default: derived from the file name)");
+  cmd->add_option("--format", o->format, "opensky_csv | traffic_json | so6 | readsb_trace (default: detected)");
+  cmd->add_flag("--json", o->json, "print the dataset and its ingest report as JSON");
+  cmd->add_flag("--quiet", o->quiet, "no progress bar");
+  cmd->callback([o] {
+    server::IngestRequest req;
+    req.file = o->file;
+    if (o->name.empty()) {
+      std::string stem = std::filesystem::path(o->file).filename().string();
+      stem = stem.substr(0, stem.find('.'));
+      o->name = server::dataset_id_from_name(stem);
+    }
+    req.name = o->name;
+    if (!o->format.empty()) req.format = o->format;
+    server::EmbeddedStore store(o->data_dir);
+    std::shared_ptr<const server::Dataset> ds;
+    {
+      ProgressBar bar("ingest " + o->name, !o->quiet);
+      ds = server::ingest_into_store(store, req, bar.fn(), nullptr);
+    }
+    const auto j = ds->to_json();
+    if (o->json) {
+      std::cout << j.dump(2) << std::endl;
+    } else {
+      std::cout << "dataset " << ds->id << ": " << j["flights"] << " flights, " << j["points"] << " points, "
+                << ds->ingest.value("rejected", 0) << " rows rejected (" << ds->format << ")" << std::endl;
+    }
+  });
+}
+
+}  // namespace trailscope::cli

@@ -1,0 +1,61 @@
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/demo_dataset.hpp"
+#include "net/http_server.hpp"
+#include "net/ws_hub.hpp"
+#include "store/embedded_store.hpp"
+#include "trailscope/core/backend.hpp"
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope::cli {
+namespace fs = std::filesystem;
+using namespace trailscope::server;
+
+void add_serve(CLI::App& app) {
+  auto* cmd = app.add_subcommand("serve", "Run the HTTP/WebSocket service and the browser app");
+  struct Opts {
+    std::string data_dir = default_data_dir(), host = "127.0.0.1", web_root = "web/dist", demo_source;
+    unsigned short port = 8080;
+    unsigned threads = 2;
+    bool demo = false;
+    std::size_t demo_flights = 20000;
+    std::string backend;
+  };
+  auto o = std::make_shared<Opts>();
+  cmd->add_option("--data-dir", o->data_dir, "store folder (created if absent)")->capture_default_str();
+  cmd->add_option("--host", o->host, "address to listen on")->capture_default_str();
+  cmd->add_option("--port", o->port, "port to listen on (0 = any free port)")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "I/O threads")->capture_default_str()->check(CLI::Range(1u, 64u));
+  cmd->add_option("--web-root", o->web_root, "folder of the built browser app (web/dist)")->capture_default_str();
+  cmd->add_option("--backend", o->backend, "compute backend: cpu | opencl | auto");
+  cmd->add_flag("--demo", o->demo, "create the generated demo dataset 'demo' first if it is absent");
+  cmd->add_option("--demo-flights", o->demo_flights, "flights in the demo dataset")->capture_default_str();
+  cmd->add_option("--demo-source", o->demo_source,
+                  "folder with vega-datasets' airports.csv and flights-airport.csv (default: web/node_modules/vega-datasets/data)");
+  cmd->callback([o] {
+    if (!o->backend.empty()) set_default_backend(parse_backend(o->backend, "--backend"));
+    auto store = std::make_shared<EmbeddedStore>(o->data_dir);
+    if (o->demo && !store->contains("demo")) create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);
+    std::error_code ec;
+    fs::path web = o->web_root;
+    if (!fs::exists(web / "index.html", ec)) {
+      std::cerr << "note: no browser app at " << web << " (build it with `make web`); serving the API only\n";
+      web.clear();
+    }
+    App app(store, store->upload_dir(), web, limits::kTileCacheBytes);
+    WsHub hub;
+    app.jobs.add_listener([&hub](const JobState& s) {
+      hub.broadcast(nlohmann::json{{"type", "job"}, {"job", s.to_json()}}.dump());
+    });
+    const Router router = make_router(app);
+    ServerOptions so{o->host, o->port, o->threads};
+    run_http_server(so, router, hub, store->upload_dir(), [&](unsigned short port) {
+      std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size() << " dataset(s) at http://"
+                << o->host << ":" << port << "/" << std::endl;
+    });
+    std::cout << "stopped" << std::endl;
+  });
+}
+
+}  // namespace trailscope::cli

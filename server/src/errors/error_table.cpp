@@ -1,0 +1,44 @@
+#include "errors/error_table.hpp"
+
+#include <iostream>
+#include <new>
+
+#include <nlohmann/json.hpp>
+
+namespace trailscope::server {
+
+int http_status(Error::Kind kind) noexcept {
+  switch (kind) {
+    case Error::Kind::invalid_argument: return 400;
+    case Error::Kind::not_found: return 404;
+    case Error::Kind::conflict: return 409;
+    case Error::Kind::payload_too_large: return 413;
+    case Error::Kind::unsupported_format: return 415;
+    case Error::Kind::unprocessable: return 422;
+    case Error::Kind::cancelled: return 409;
+    case Error::Kind::backend: return 500;
+    case Error::Kind::internal: return 500;
+  }
+  return 500;
+}
+
+Response error_response(int status, const std::string& error, const std::string& param, const std::string& detail) {
+  return Response::json(status, {{"error", error}, {"detail", detail}, {"param", param}});
+}
+
+Response error_response(const std::exception& e) {
+  if (const auto* te = dynamic_cast<const Error*>(&e)) {
+    const int status = http_status(te->kind());
+    if (status >= 500) std::cerr << "error: " << te->what() << "\n";
+    return error_response(status, to_string(te->kind()), te->param(), te->what());
+  }
+  if (const auto* je = dynamic_cast<const nlohmann::json::exception*>(&e))
+    return error_response(400, "invalid_argument", "body", std::string("malformed JSON: ") + je->what());
+  if (dynamic_cast<const std::bad_alloc*>(&e))
+    return error_response(507, "insufficient_storage", "", "the server ran out of memory for this request");
+  // Only 5xx are logged: they are the server's fault, 4xx are the client's.
+  std::cerr << "internal error: " << e.what() << "\n";
+  return error_response(500, "internal", "", "internal server error");
+}
+
+}  // namespace trailscope::server

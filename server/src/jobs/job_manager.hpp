@@ -1,0 +1,75 @@
+#pragma once
+// Long operations (ingest now; bundling and sweeps later) run as jobs on a worker thread. A job reports
+// progress through a ProgressFn and can be cancelled; every change of a job is announced to listeners
+// (the WebSocket hub), throttled so that a fast job does not flood slow clients.
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trailscope/core/progress.hpp"
+
+namespace trailscope::server {
+
+struct JobState {
+  std::string id;      ///< "j1", "j2", ...
+  std::string kind;    ///< "ingest"
+  std::string state;   ///< queued | running | done | failed | cancelled
+  double progress = 0; ///< [0, 1]
+  std::string stage;
+  std::string dataset; ///< the dataset the job creates or reads
+  nlohmann::json result;  ///< on done
+  nlohmann::json error;   ///< {"error","detail","param"} on failed
+  nlohmann::json to_json() const;
+};
+
+class JobManager {
+ public:
+  /// The work: reports progress, checks the token, returns the result JSON or throws.
+  using Work = std::function<nlohmann::json(const ProgressFn&, const CancelToken&)>;
+  using Listener = std::function<void(const JobState&)>;
+
+  /// Starts `workers` worker threads (at least 1).
+  explicit JobManager(unsigned workers = 1);
+  ~JobManager();  ///< cancels running jobs and joins the workers
+
+  /// Queues a job and returns its state right away.
+  JobState submit(std::string kind, std::string dataset, Work work);
+  /// Throws not_found("job").
+  JobState get(const std::string& id) const;
+  std::vector<JobState> list() const;
+  /// Asks a queued or running job to stop; throws not_found("job").
+  JobState cancel(const std::string& id);
+  /// Blocks until the job has ended (tests and the CLI).
+  JobState wait(const std::string& id);
+  void add_listener(Listener l);
+
+ private:
+  struct Job {
+    JobState state;
+    Work work;
+    CancelToken cancel;
+    std::chrono::steady_clock::time_point last_event{};
+  };
+  void worker_loop();
+  void notify(const JobState& s);
+
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  std::map<std::string, std::shared_ptr<Job>> jobs_;
+  std::deque<std::shared_ptr<Job>> queue_;
+  std::vector<Listener> listeners_;
+  std::vector<std::thread> workers_;
+  unsigned next_id_ = 1;
+  bool stopping_ = false;
+};
+
+}  // namespace trailscope::server

@@ -1,0 +1,188 @@
+#include "net/http_server.hpp"
+
+#include <atomic>
+#include <iostream>
+#include <random>
+#include <thread>
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <boost/url/parse.hpp>
+
+#include "errors/error_table.hpp"
+#include "net/websocket_session.hpp"
+#include "net/ws_hub.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope::server {
+namespace net = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+using tcp = net::ip::tcp;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool is_upload(const http::request_header<>& h) {
+  return h.method() == http::verb::post && h.target().starts_with("/api/v1/datasets") &&
+         (h.target().size() == 16 || h.target()[16] == '?');
+}
+
+// Turns Beast's header + body into the router's Request; a malformed target is a 400 via the table.
+Request to_request(const http::request_header<>& h, std::string body, fs::path body_file) {
+  Request req;
+  req.method = std::string(h.method_string());
+  auto parsed = boost::urls::parse_origin_form(h.target());
+  if (!parsed) throw invalid_argument("path", "malformed request target");
+  req.path = parsed->path();
+  for (auto param : parsed->params()) req.query[param.key] = param.value;
+  for (const auto& f : h) {
+    std::string name(f.name_string());
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    req.headers[name] = std::string(f.value());
+  }
+  req.body = std::move(body);
+  req.body_file = std::move(body_file);
+  return req;
+}
+
+http::response<http::string_body> to_beast(Response res, unsigned version, bool keep_alive) {
+  http::response<http::string_body> out{static_cast<http::status>(res.status), version};
+  out.set(http::field::server, "trailscope/" TRAILSCOPE_VERSION);
+  if (!res.content_type.empty()) out.set(http::field::content_type, res.content_type);
+  for (auto& [k, v] : res.headers) out.set(k, v);
+  out.body() = std::move(res.body);
+  out.keep_alive(keep_alive);
+  out.prepare_payload();
+  return out;
+}
+
+fs::path upload_path(const fs::path& dir) {
+  static std::atomic<unsigned> counter{0};
+  std::random_device rd;
+  return dir / ("upload-" + std::to_string(rd()) + "-" + std::to_string(counter++));
+}
+
+net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsHub& hub, fs::path upload_dir) {
+  beast::flat_buffer buffer;
+  beast::error_code ec;
+  for (;;) {
+    http::request_parser<http::empty_body> head;
+    head.header_limit(16 * 1024);
+    stream.expires_after(std::chrono::seconds(limits::kRequestTimeoutSeconds));
+    co_await http::async_read_header(stream, buffer, head, net::redirect_error(net::use_awaitable, ec));
+    if (ec) break;  // closed, timed out, or not HTTP: nothing useful to answer
+    const auto& h = head.get();
+    const unsigned version = h.version();
+
+    if (beast::websocket::is_upgrade(h)) {
+      if (h.target() != "/api/v1/ws") {
+        auto res = to_beast(error_response(404, "not_found", "path", "WebSocket endpoint is /api/v1/ws"), version, false);
+        co_await http::async_write(stream, res, net::redirect_error(net::use_awaitable, ec));
+        break;
+      }
+      stream.expires_never();
+      std::make_shared<WebSocketSession>(std::move(stream), hub)->run(head.release());
+      co_return;
+    }
+
+    Response res;
+    bool keep_alive = h.keep_alive();
+    fs::path file;
+    try {
+      if (is_upload(h)) {
+        // Uploads stream to disk with their own limit and timeout; memory stays flat.
+        file = upload_path(upload_dir);
+        http::request_parser<http::file_body> p{std::move(head)};
+        p.body_limit(limits::kMaxUploadBytes);
+        p.get().body().open(file.c_str(), beast::file_mode::write, ec);
+        if (ec) throw Error(Error::Kind::internal, "", "cannot open upload file: " + ec.message());
+        stream.expires_after(std::chrono::seconds(limits::kUploadTimeoutSeconds));
+        co_await http::async_read(stream, buffer, p, net::redirect_error(net::use_awaitable, ec));
+        p.get().body().close();
+        if (ec == http::error::body_limit)
+          throw Error(Error::Kind::payload_too_large, "body", "upload exceeds the limit of 2 GiB");
+        if (ec) throw beast::system_error(ec);
+        res = router.handle(to_request(p.get(), {}, file));
+        if (res.status >= 400) fs::remove(file, ec);  // the handler did not take it
+        keep_alive = p.get().keep_alive();
+      } else {
+        http::request_parser<http::string_body> p{std::move(head)};
+        p.body_limit(limits::kMaxRequestBodyBytes);
+        co_await http::async_read(stream, buffer, p, net::redirect_error(net::use_awaitable, ec));
+        if (ec == http::error::body_limit)
+          throw Error(Error::Kind::payload_too_large, "body", "request body exceeds the limit of 1 MiB");
+        if (ec) throw beast::system_error(ec);
+        auto msg = p.release();
+        res = router.handle(to_request(msg, std::move(msg.body()), {}));
+      }
+    } catch (const beast::system_error&) {
+      if (!file.empty()) fs::remove(file, ec);
+      break;  // the connection failed mid-request; nobody to answer
+    } catch (const std::exception& e) {
+      if (!file.empty()) fs::remove(file, ec);
+      res = error_response(e);
+      keep_alive = false;  // the rest of the body is unread: do not reuse the connection
+    }
+    auto out = to_beast(std::move(res), version, keep_alive);
+    stream.expires_after(std::chrono::seconds(limits::kRequestTimeoutSeconds));
+    co_await http::async_write(stream, out, net::redirect_error(net::use_awaitable, ec));
+    if (ec || !keep_alive) break;
+  }
+  stream.socket().shutdown(tcp::socket::shutdown_send, ec);
+}
+
+net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub& hub, fs::path upload_dir) {
+  for (;;) {
+    beast::error_code ec;
+    auto socket = co_await acceptor.async_accept(net::make_strand(acceptor.get_executor()),
+                                                 net::redirect_error(net::use_awaitable, ec));
+    if (ec) {
+      if (ec == net::error::operation_aborted) co_return;
+      continue;  // e.g. too many open files: keep serving the others
+    }
+    auto ex = socket.get_executor();
+    net::co_spawn(ex, session(beast::tcp_stream(std::move(socket)), router, hub, upload_dir), net::detached);
+  }
+}
+
+}  // namespace
+
+void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub, const fs::path& upload_dir,
+                     const std::function<void(unsigned short)>& on_listening) {
+  net::io_context ioc(static_cast<int>(opts.threads));
+  tcp::acceptor acceptor(ioc);
+  beast::error_code ec;
+  const auto address = net::ip::make_address(opts.host, ec);
+  if (ec) throw invalid_argument("host", "host: '" + opts.host + "' is not an IP address");
+  const tcp::endpoint ep{address, opts.port};
+  acceptor.open(ep.protocol(), ec);
+  if (!ec) acceptor.set_option(net::socket_base::reuse_address(true), ec);
+  if (!ec) acceptor.bind(ep, ec);
+  if (!ec) acceptor.listen(net::socket_base::max_listen_connections, ec);
+  if (ec)
+    throw Error(Error::Kind::internal, "port",
+                "cannot listen on " + opts.host + ":" + std::to_string(opts.port) + ": " + ec.message());
+  on_listening(acceptor.local_endpoint().port());
+
+  net::signal_set signals(ioc, SIGINT, SIGTERM);
+  signals.async_wait([&](const beast::error_code&, int) {
+    acceptor.close();
+    ioc.stop();
+  });
+  net::co_spawn(ioc, listen(acceptor, router, hub, upload_dir), net::detached);
+  std::vector<std::thread> threads;
+  for (unsigned i = 1; i < std::max(1u, opts.threads); ++i) threads.emplace_back([&] { ioc.run(); });
+  ioc.run();
+  for (auto& t : threads) t.join();
+}
+
+}  // namespace trailscope::server

@@ -1,0 +1,40 @@
+#pragma once
+#include <deque>
+#include <memory>
+#include <string>
+
+#include <boost/asio/strand.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+namespace trailscope::server {
+
+class WsHub;
+
+/// One WebSocket client. The server pushes events ({"type":"job",...}); client messages are read (so
+/// pings and closes work) and answered with {"type":"error"} for anything it does not understand.
+class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
+ public:
+  WebSocketSession(boost::beast::tcp_stream&& stream, WsHub& hub);
+  ~WebSocketSession();
+  /// Accepts the upgrade request and starts reading.
+  void run(boost::beast::http::request<boost::beast::http::empty_body> req);
+  /// Queues a text message; thread-safe.
+  void send(std::shared_ptr<const std::string> message);
+
+ private:
+  void on_accept(boost::beast::error_code ec);
+  void do_read();
+  void on_read(boost::beast::error_code ec, std::size_t);
+  void on_send(std::shared_ptr<const std::string> message);
+  void on_write(boost::beast::error_code ec, std::size_t);
+
+  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::flat_buffer buffer_;
+  std::deque<std::shared_ptr<const std::string>> queue_;
+  WsHub& hub_;
+  bool joined_ = false;
+};
+
+}  // namespace trailscope::server

@@ -1,0 +1,31 @@
+#pragma once
+// Everything a route handler may use, built once by `trailscope serve` (or by a test).
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "jobs/job_manager.hpp"
+#include "routes/router.hpp"
+#include "store/dataset_store.hpp"
+#include "store/tile_cache.hpp"
+#include "trailscope/density/density_renderer.hpp"
+
+namespace trailscope::server {
+
+struct App {
+  std::shared_ptr<DatasetStore> store;
+  std::filesystem::path upload_dir;   ///< where streamed uploads are written
+  std::filesystem::path web_root;     ///< built browser app (web/dist); empty = none
+  JobManager jobs{1};
+  TileCache tiles;
+  DensityRenderer density;
+
+  App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
+      std::size_t tile_cache_bytes);
+};
+
+/// The one table of routes (see proto/openapi.yaml, which lists the same).
+Router make_router(App& app);
+
+}  // namespace trailscope::server

@@ -1,0 +1,115 @@
+#include <chrono>
+#include <fstream>
+#include <random>
+
+#include "routes/handlers.hpp"
+#include "routes/params.hpp"
+#include "store/dataset_ingest.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/ingest/format.hpp"
+#include "trailscope/trails/summary.hpp"
+
+namespace trailscope::server::handlers {
+namespace fs = std::filesystem;
+
+Response list_datasets(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& ds : app.store->list()) list.push_back(ds->to_json());
+  return Response::json(200, {{"datasets", std::move(list)}});
+}
+
+Response get_dataset(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  return Response::json(200, app.store->get(p.at("dataset"))->to_json());
+}
+
+Response delete_dataset(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  const std::string id = p.at("dataset");
+  app.store->remove(id);
+  app.tiles.erase_prefix(id + "@");
+  return Response::no_content();
+}
+
+Response create_dataset(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {"name", "format"});
+  auto it = req.query.find("name");
+  if (it == req.query.end() || it->second.empty())
+    throw invalid_argument("name", "name: the dataset name is required (?name=...)");
+  IngestRequest ing;
+  ing.name = it->second;
+  validate_dataset_id(ing.name, "name");
+  if (auto f = req.query.find("format"); f != req.query.end() && f->second != "auto") {
+    ingest::parse_format(f->second, "format");  // fail now, not in the job
+    ing.format = f->second;
+  }
+  if (app.store->contains(ing.name))
+    throw Error(Error::Kind::conflict, "name", "dataset '" + ing.name + "' already exists");
+  if (!req.body_file.empty()) {
+    ing.file = req.body_file;
+  } else {
+    if (req.body.empty()) throw invalid_argument("body", "body: the upload is empty");
+    // Small bodies (tests, scripts) arrive in memory; ingest reads files, so spill it.
+    std::random_device rd;
+    ing.file = app.upload_dir / ("inline-" + std::to_string(rd()) + std::to_string(rd()));
+    std::ofstream out(ing.file, std::ios::binary);
+    out.write(req.body.data(), static_cast<std::streamsize>(req.body.size()));
+    if (!out) throw Error(Error::Kind::internal, "", "cannot write upload to " + ing.file.string());
+  }
+  auto store = app.store;
+  const JobState job = app.jobs.submit("ingest", ing.name, [store, ing](const ProgressFn& progress, const CancelToken& cancel) {
+    struct RemoveFile {
+      fs::path p;
+      ~RemoveFile() {
+        std::error_code ec;
+        fs::remove(p, ec);
+      }
+    } cleanup{ing.file};
+    return ingest_into_store(*store, ing, progress, &cancel)->to_json();
+  });
+  Response res = Response::json(202, {{"job", job.to_json()}});
+  res.headers.emplace_back("Location", "/api/v1/jobs/" + job.id);
+  return res;
+}
+
+Response summary(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, params::with_query_keys({"bins", "top"}));
+  const auto ds = app.store->get(p.at("dataset"));
+  const Query q = parse_query(req.query);
+  SummaryOptions opts;
+  opts.bins = static_cast<int>(params::integer(req, "bins", opts.bins, 1, limits::kMaxHistogramBins));
+  opts.top_callsigns = static_cast<int>(params::integer(req, "top", opts.top_callsigns, 0, limits::kMaxTopCallsigns));
+  if (auto u = req.query.find("alt_unit"); u != req.query.end() && u->second == "m") opts.alt_unit = AltUnit::m;
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json j = summarize(*ds->trails, q, opts).to_json();
+  j["dataset"] = ds->id;
+  j["query"] = q.canonical();
+  j["elapsed_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return Response::json(200, j);
+}
+
+Response list_flights(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, params::with_query_keys({"page", "page_size"}));
+  const auto ds = app.store->get(p.at("dataset"));
+  const Query q = parse_query(req.query);
+  const auto page = params::integer(req, "page", 0, 0, 1'000'000'000);
+  const auto size = params::integer(req, "page_size", limits::kDefaultPageSize, 1, limits::kMaxPageSize);
+  return Response::json(200, trailscope::list_flights(*ds->trails, q, page, size).to_json());
+}
+
+Response get_flight(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, params::with_query_keys({"clip", "max_points"}));
+  const auto ds = app.store->get(p.at("dataset"));
+  const auto id = params::path_integer(p, "flight_id", 0, 0xffffffffLL);
+  const Query q = parse_query(req.query);
+  const bool clip = params::integer(req, "clip", 0, 0, 1) == 1;
+  const auto max_points = params::integer(req, "max_points", limits::kMaxPointsPerResponse, 1,
+                                          limits::kMaxPointsPerResponse);
+  Response res = Response::json(200, flight_geojson(*ds->trails, id, q, clip, max_points));
+  res.content_type = "application/geo+json";
+  return res;
+}
+
+}  // namespace trailscope::server::handlers

@@ -1,0 +1,82 @@
+#include "routes/router.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "errors/error_table.hpp"
+#include "trailscope/core/error.hpp"
+
+namespace trailscope::server {
+
+namespace {
+std::vector<std::string> segments(const std::string& path) {
+  std::vector<std::string> out;
+  std::string seg;
+  std::istringstream in(path);
+  while (std::getline(in, seg, '/'))
+    if (!seg.empty()) out.push_back(seg);
+  return out;
+}
+}  // namespace
+
+bool match_route(const std::string& pattern, const std::string& path, PathParams& params) {
+  const auto ps = segments(pattern), xs = segments(path);
+  if (ps.size() != xs.size()) return false;
+  PathParams found;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    const std::string& p = ps[i];
+    const std::string& x = xs[i];
+    const auto open = p.find('{');
+    if (open == std::string::npos) {
+      if (p != x) return false;
+      continue;
+    }
+    const auto close = p.find('}', open);
+    const std::string prefix = p.substr(0, open), suffix = p.substr(close + 1);
+    if (x.size() < prefix.size() + suffix.size() + 1) return false;
+    if (x.compare(0, prefix.size(), prefix) != 0) return false;
+    if (x.compare(x.size() - suffix.size(), suffix.size(), suffix) != 0) return false;
+    found[p.substr(open + 1, close - open - 1)] = x.substr(prefix.size(), x.size() - prefix.size() - suffix.size());
+  }
+  params = std::move(found);
+  return true;
+}
+
+void Router::add(std::string method, std::string pattern, Handler handler) {
+  routes_.push_back({std::move(method), std::move(pattern), std::move(handler)});
+}
+
+Response Router::handle(const Request& req) const {
+  try {
+    bool path_known = false;
+    std::string allow;
+    for (const Route& r : routes_) {
+      PathParams params;
+      if (!match_route(r.pattern, req.path, params)) continue;
+      if (r.method == req.method || (req.method == "HEAD" && r.method == "GET")) {
+        Response res = r.handler(req, params);
+        if (req.method == "HEAD") res.body.clear();
+        return res;
+      }
+      path_known = true;
+      allow += (allow.empty() ? "" : ", ") + r.method;
+    }
+    if (path_known) {
+      Response res = error_response(405, "method_not_allowed", "", req.method + " is not allowed on " + req.path);
+      res.headers.emplace_back("Allow", allow);
+      return res;
+    }
+    if (fallback_ && (req.method == "GET" || req.method == "HEAD")) return fallback_(req, {});
+    return error_response(404, "not_found", "path", "no route for " + req.path);
+  } catch (const std::exception& e) {
+    return error_response(e);
+  }
+}
+
+void reject_unknown_params(const Request& req, const std::vector<std::string>& allowed) {
+  for (const auto& [key, value] : req.query)
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
+      throw invalid_argument(key, "unknown query parameter '" + key + "'");
+}
+
+}  // namespace trailscope::server

@@ -1,0 +1,43 @@
+#include "store/dataset_ingest.hpp"
+
+#include <chrono>
+#include <ctime>
+
+#include "trailscope/ingest/ingest.hpp"
+
+namespace trailscope::server {
+
+std::string utc_now_iso() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const IngestRequest& req,
+                                                 const ProgressFn& progress, const CancelToken* cancel) {
+  validate_dataset_id(req.name, "name");
+  if (store.contains(req.name))
+    throw Error(Error::Kind::conflict, "name", "dataset '" + req.name + "' already exists");
+  ingest::IngestOptions opts;
+  if (req.format) opts.format = ingest::parse_format(*req.format, "format");
+  opts.progress = progress;
+  opts.cancel = cancel;
+  ingest::IngestReport report;
+  TrailSet trails = ingest::ingest_file(req.file.string(), opts, &report);
+  if (cancel) cancel->throw_if_cancelled();
+  if (progress) progress(0.97, "store");
+  auto ds = std::make_shared<Dataset>();
+  ds->id = req.name;
+  ds->name = req.name;
+  ds->format = ingest::to_string(report.format);
+  ds->created = utc_now_iso();
+  ds->ingest = report.to_json();
+  ds->trails = std::make_shared<const TrailSet>(std::move(trails));
+  store.put(ds);
+  return ds;
+}
+
+}  // namespace trailscope::server

@@ -1,0 +1,27 @@
+#pragma once
+// Ingest a file into the store as one dataset: the same step for `trailscope ingest` and for
+// POST /api/v1/datasets. The dataset appears whole or not at all.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "store/dataset_store.hpp"
+#include "trailscope/core/progress.hpp"
+
+namespace trailscope::server {
+
+struct IngestRequest {
+  std::filesystem::path file;          ///< plain or gzip
+  std::string name;                    ///< dataset id (validated)
+  std::optional<std::string> format;   ///< a format name; detected from content when absent
+};
+
+/// Parses `req.file`, assembles flights and stores the dataset. Throws what ingest_file throws
+/// (unsupported_format, unprocessable, not_found), conflict("name") when the id exists, cancelled.
+std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const IngestRequest& req,
+                                                 const ProgressFn& progress, const CancelToken* cancel);
+
+/// Current UTC time as ISO 8601 ("2026-11-22T11:00:00Z").
+std::string utc_now_iso();
+
+}  // namespace trailscope::server

@@ -1,0 +1,212 @@
+#include "store/embedded_store.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <random>
+
+#include "trailscope/core/error.hpp"
+
+namespace trailscope::server {
+namespace fs = std::filesystem;
+
+namespace {
+constexpr char kMagic[] = "TRAILSCOPE-COLUMNS-1";
+constexpr int kFormatVersion = 1;
+
+Error io_error(const fs::path& p, const std::string& what) {
+  return Error(Error::Kind::internal, "", "store: cannot " + what + " " + p.string());
+}
+
+// Flushes a file or folder to disk, so that a rename that follows cannot be seen before the data.
+void fsync_path(const fs::path& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY);
+  if (fd < 0) throw io_error(p, "open for fsync");
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) throw io_error(p, "fsync");
+}
+
+template <typename T>
+void write_column(const fs::path& dir, const char* name, const std::vector<T>& v) {
+  const fs::path p = dir / (std::string(name) + ".bin");
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
+  out.close();
+  if (!out) throw io_error(p, "write");
+  fsync_path(p);
+}
+
+template <typename T>
+void read_column(const fs::path& dir, const char* name, std::vector<T>& v, std::size_t n) {
+  const fs::path p = dir / (std::string(name) + ".bin");
+  std::error_code ec;
+  const auto size = fs::file_size(p, ec);
+  if (ec || size != n * sizeof(T)) throw io_error(p, "read (size mismatch)");
+  v.resize(n);
+  std::ifstream in(p, std::ios::binary);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(size));
+  if (!in) throw io_error(p, "read");
+}
+
+std::string random_suffix() {
+  std::random_device rd;
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%08x%08x", rd(), rd());
+  return buf;
+}
+}  // namespace
+
+EmbeddedStore::EmbeddedStore(fs::path root) : root_(std::move(root)) {
+  std::error_code ec;
+  for (const char* sub : {"datasets", "tmp", "uploads"}) {
+    fs::create_directories(root_ / sub, ec);
+    if (ec) throw io_error(root_ / sub, "create");
+  }
+  // Leftovers of interrupted writes and uploads are never part of a dataset.
+  for (const char* sub : {"tmp", "uploads"})
+    for (const auto& e : fs::directory_iterator(root_ / sub)) fs::remove_all(e.path(), ec);
+  for (const auto& e : fs::directory_iterator(root_ / "datasets")) {
+    if (!e.is_directory()) continue;
+    try {
+      auto ds = read_dataset(e.path());
+      datasets_[ds->id] = std::move(ds);
+    } catch (const std::exception& ex) {
+      std::cerr << "store: skipping " << e.path() << ": " << ex.what() << "\n";
+    }
+  }
+}
+
+void EmbeddedStore::write_dataset(const Dataset& ds, const fs::path& dir) {
+  const TrailSet& t = *ds.trails;
+  const PointColumns& p = t.points();
+  write_column(dir, "t", p.t);
+  write_column(dir, "lat", p.lat);
+  write_column(dir, "lon", p.lon);
+  write_column(dir, "alt", p.alt);
+  write_column(dir, "speed", p.speed);
+  write_column(dir, "track", p.track);
+  write_column(dir, "vrate", p.vrate);
+  write_column(dir, "on_ground", p.on_ground);
+  // Flights: ranges as a column pair, identifiers in the manifest (short strings, at most millions).
+  std::vector<std::uint32_t> ranges;
+  nlohmann::json icao = nlohmann::json::array(), callsign = nlohmann::json::array();
+  for (const Flight& f : t.flights()) {
+    ranges.push_back(f.begin), ranges.push_back(f.end);
+    icao.push_back(f.icao24), callsign.push_back(f.callsign);
+  }
+  write_column(dir, "flight_ranges", ranges);
+  const nlohmann::json manifest = {{"magic", kMagic},     {"version", kFormatVersion},
+                                   {"id", ds.id},         {"name", ds.name},
+                                   {"format", ds.format}, {"created", ds.created},
+                                   {"ingest", ds.ingest}, {"points", p.size()},
+                                   {"flights", t.num_flights()}, {"icao24", icao},
+                                   {"callsign", callsign}};
+  // The manifest is written last: a folder without it is incomplete by definition.
+  const fs::path mp = dir / "manifest.json";
+  std::ofstream out(mp, std::ios::trunc);
+  out << manifest.dump();
+  out.close();
+  if (!out) throw io_error(mp, "write");
+  fsync_path(mp);
+  fsync_path(dir);
+}
+
+std::shared_ptr<Dataset> EmbeddedStore::read_dataset(const fs::path& dir) {
+  std::ifstream in(dir / "manifest.json");
+  if (!in) throw io_error(dir / "manifest.json", "open");
+  const nlohmann::json m = nlohmann::json::parse(in);
+  if (m.value("magic", "") != kMagic || m.value("version", 0) != kFormatVersion)
+    throw io_error(dir, "recognise the format of");
+  const std::size_t n = m.at("points").get<std::size_t>(), nf = m.at("flights").get<std::size_t>();
+  PointColumns p;
+  read_column(dir, "t", p.t, n);
+  read_column(dir, "lat", p.lat, n);
+  read_column(dir, "lon", p.lon, n);
+  read_column(dir, "alt", p.alt, n);
+  read_column(dir, "speed", p.speed, n);
+  read_column(dir, "track", p.track, n);
+  read_column(dir, "vrate", p.vrate, n);
+  read_column(dir, "on_ground", p.on_ground, n);
+  std::vector<std::uint32_t> ranges;
+  read_column(dir, "flight_ranges", ranges, 2 * nf);
+  const auto& icao = m.at("icao24");
+  const auto& cs = m.at("callsign");
+  if (icao.size() != nf || cs.size() != nf) throw io_error(dir, "read flights of");
+  std::vector<Flight> flights(nf);
+  for (std::size_t i = 0; i < nf; ++i) {
+    Flight& f = flights[i];
+    f.begin = ranges[2 * i], f.end = ranges[2 * i + 1];
+    if (f.begin > f.end || f.end > n) throw io_error(dir, "validate flight ranges of");
+    f.icao24 = icao[i].get<std::string>(), f.callsign = cs[i].get<std::string>();
+    compute_extents(f, p);
+  }
+  auto ds = std::make_shared<Dataset>();
+  ds->id = m.at("id").get<std::string>();
+  ds->name = m.value("name", ds->id);
+  ds->format = m.value("format", "");
+  ds->created = m.value("created", "");
+  ds->ingest = m.value("ingest", nlohmann::json::object());
+  ds->trails = std::make_shared<const TrailSet>(std::move(p), std::move(flights));
+  return ds;
+}
+
+std::vector<std::shared_ptr<const Dataset>> EmbeddedStore::list() const {
+  std::lock_guard lock(mu_);
+  std::vector<std::shared_ptr<const Dataset>> out;
+  for (const auto& [id, ds] : datasets_) out.push_back(ds);
+  return out;
+}
+
+std::shared_ptr<const Dataset> EmbeddedStore::get(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  auto it = datasets_.find(id);
+  if (it == datasets_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
+  return it->second;
+}
+
+bool EmbeddedStore::contains(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  return datasets_.count(id) > 0;
+}
+
+void EmbeddedStore::put(std::shared_ptr<const Dataset> ds) {
+  validate_dataset_id(ds->id);
+  if (contains(ds->id)) throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
+  const fs::path tmp = root_ / "tmp" / (ds->id + "." + random_suffix());
+  std::error_code ec;
+  fs::create_directories(tmp, ec);
+  if (ec) throw io_error(tmp, "create");
+  try {
+    write_dataset(*ds, tmp);
+    std::lock_guard lock(mu_);
+    if (datasets_.count(ds->id)) throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
+    const fs::path final_dir = root_ / "datasets" / ds->id;
+    // rename(2) of a folder is atomic: readers after a crash see the old state or the whole dataset.
+    fs::rename(tmp, final_dir, ec);
+    if (ec) throw io_error(final_dir, "rename into");
+    fsync_path(root_ / "datasets");
+    datasets_[ds->id] = std::move(ds);
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+void EmbeddedStore::remove(const std::string& id) {
+  std::lock_guard lock(mu_);
+  auto it = datasets_.find(id);
+  if (it == datasets_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
+  // Rename out of datasets/ first (atomic), then delete at leisure: a crash mid-delete leaves only tmp/.
+  const fs::path gone = root_ / "tmp" / (id + ".deleted." + random_suffix());
+  std::error_code ec;
+  fs::rename(root_ / "datasets" / id, gone, ec);
+  if (ec) throw io_error(root_ / "datasets" / id, "remove");
+  datasets_.erase(it);
+  fs::remove_all(gone, ec);
+}
+
+}  // namespace trailscope::server

@@ -1,0 +1,144 @@
+// Window queries on the real Europe SO6 day, checked against counts computed here from the raw file with
+// code that shares nothing with the ingest or the query engine.
+#include <zlib.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+#include "trailscope/ingest/ingest.hpp"
+#include "trailscope/trails/query.hpp"
+#include "trailscope/trails/summary.hpp"
+
+namespace trailscope {
+namespace {
+
+struct RawPoint {
+  std::string flight;
+  double t, lat, lon, alt_m;
+};
+
+std::string gunzip(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  EXPECT_NE(f, nullptr);
+  std::string out;
+  char buf[1 << 16];
+  int n;
+  while ((n = gzread(f, buf, sizeof buf)) > 0) out.append(buf, n);
+  gzclose(f);
+  return out;
+}
+
+// 2018-01-01T00:00:00Z; every row of the file is dated 180101.
+constexpr double kDay = 1514764800.0;
+
+double seconds(const std::string& hhmmss) {
+  const int v = std::stoi(hhmmss);
+  return kDay + (v / 10000) * 3600 + (v / 100 % 100) * 60 + v % 100;
+}
+
+// Distinct (flight_id, time) points from the segments' begin and end points.
+const std::vector<RawPoint>& raw_points() {
+  static const std::vector<RawPoint> pts = [] {
+    std::istringstream in(gunzip(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz").string()));
+    std::map<std::pair<std::string, double>, RawPoint> uniq;
+    std::string line;
+    while (std::getline(in, line)) {
+      std::istringstream ls(line);
+      std::string seg, adep, ades, type, hb, he, flb, fle, status, cs, db, de, latb, lonb, late, lone, fid;
+      ls >> seg >> adep >> ades >> type >> hb >> he >> flb >> fle >> status >> cs >> db >> de >> latb >> lonb >> late >>
+          lone >> fid;
+      if (fid.empty()) continue;
+      const double tb = seconds(hb), te = seconds(he);
+      uniq.try_emplace({fid, tb}, RawPoint{fid, tb, std::stod(latb) / 60, std::stod(lonb) / 60, std::stod(flb) * 30.48});
+      uniq.try_emplace({fid, te}, RawPoint{fid, te, std::stod(late) / 60, std::stod(lone) / 60, std::stod(fle) * 30.48});
+    }
+    std::vector<RawPoint> v;
+    for (auto& [k, p] : uniq) v.push_back(p);
+    return v;
+  }();
+  return pts;
+}
+
+const TrailSet& europe() {
+  static const TrailSet set =
+      ingest::ingest_file(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz").string());
+  return set;
+}
+
+struct Expected {
+  std::uint64_t flights = 0, points = 0;
+};
+
+Expected count(double t0, double t1, const BBox& b, double alt_lo, double alt_hi) {
+  std::set<std::string> flights;
+  Expected e;
+  for (const auto& p : raw_points()) {
+    if (p.t < t0 || p.t >= t1) continue;
+    if (p.lat < b.south || p.lat > b.north || p.lon < b.west || p.lon > b.east) continue;
+    if (p.alt_m < alt_lo || p.alt_m > alt_hi) continue;
+    ++e.points;
+    flights.insert(p.flight);
+  }
+  e.flights = flights.size();
+  return e;
+}
+
+TEST(WindowQuery, WholeDayHasAllFlightsAndPoints) {
+  const Summary s = summarize(europe(), Query{});
+  EXPECT_EQ(s.flights, 11043u);
+  EXPECT_EQ(s.points, raw_points().size());
+}
+
+TEST(WindowQuery, WindowsMatchIndependentCounts) {
+  struct Case {
+    const char* bbox;
+    const char* t0;
+    const char* t1;
+    const char* alt_min;
+    const char* alt_max;
+  };
+  // Times as ISO 8601 and Unix seconds, altitudes in feet (the API's default unit).
+  const Case cases[] = {
+      {"-5,45,10,55", "2018-01-01T08:00:00Z", "2018-01-01T10:00:00Z", "0", "60000"},
+      {"2,48,3,49.5", "1514786400", "1514808000", "10000", "30000"},
+      {"-15,30,40,65", "2018-01-01T00:00:00Z", "2018-01-01T00:30:00Z", "30000", "45000"},
+      {"20,35,30,45", "2018-01-01T12:00:00+01:00", "2018-01-01T18:00:00Z", "0", "9000"},
+  };
+  for (const Case& c : cases) {
+    const Query q = parse_query({{"bbox", c.bbox}, {"t0", c.t0}, {"t1", c.t1}, {"alt_min", c.alt_min},
+                                 {"alt_max", c.alt_max}});
+    const Expected e = count(*q.t0, *q.t1, *q.bbox, *q.alt_min, *q.alt_max);
+    const Summary s = summarize(europe(), q);
+    SCOPED_TRACE(c.bbox);
+    EXPECT_GT(e.points, 0u);
+    EXPECT_EQ(s.points, e.points);
+    EXPECT_EQ(s.flights, e.flights);
+    std::uint64_t hist = 0;
+    for (auto n : s.time_histogram.counts) hist += n;
+    EXPECT_EQ(hist, e.points);
+    const FlightPage page = list_flights(europe(), q, 0, 1000);
+    EXPECT_EQ(page.total, e.flights);
+  }
+}
+
+TEST(WindowQuery, CallsignFilters) {
+  // AAF154 is the first flight of the file (DAAG → LFPO).
+  const Query exact = parse_query({{"callsign", "aaf154"}});
+  EXPECT_EQ(summarize(europe(), exact).flights, 1u);
+  const Query prefix = parse_query({{"callsign", "AAF"}});
+  const Query glob = parse_query({{"callsign", "AAF*"}});
+  const auto a = summarize(europe(), prefix), b = summarize(europe(), glob);
+  EXPECT_GE(a.flights, 1u);
+  EXPECT_EQ(a.flights, b.flights);
+  EXPECT_EQ(a.points, b.points);
+  for (const auto& c : a.top_callsigns) EXPECT_EQ(c.callsign.rfind("AAF", 0), 0u);
+}
+
+}  // namespace
+}  // namespace trailscope

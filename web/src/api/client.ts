@@ -1,0 +1,143 @@
+// Typed client for the TrailScope REST API (same origin as the page).
+
+import type {
+  ApiErrorBody,
+  Dataset,
+  DatasetFormat,
+  DatasetList,
+  FlightFeature,
+  FlightPage,
+  Health,
+  Job,
+  JobAccepted,
+  Summary,
+} from './types';
+
+/** An error answered by the API (4xx/5xx with `{error, detail, param}`), or a transport failure (status 0). */
+export class ApiError extends Error {
+  readonly status: number;
+  readonly code: string;
+  readonly detail: string;
+  readonly param: string | undefined;
+
+  constructor(status: number, body: ApiErrorBody) {
+    super(body.detail || body.error);
+    this.name = 'ApiError';
+    this.status = status;
+    this.code = body.error;
+    this.detail = body.detail;
+    this.param = body.param;
+  }
+}
+
+export function isAbort(e: unknown): boolean {
+  return e instanceof DOMException && e.name === 'AbortError';
+}
+
+/** Parses an error body; falls back to the status line when the body is not the API's JSON. */
+export async function errorFromResponse(res: Response): Promise<ApiError> {
+  let body: ApiErrorBody = { error: `http_${res.status}`, detail: `${res.status} ${res.statusText}`.trim() };
+  try {
+    const text = await res.text();
+    const parsed: unknown = text ? JSON.parse(text) : null;
+    if (parsed && typeof parsed === 'object' && 'error' in parsed) body = parsed as ApiErrorBody;
+  } catch {
+    /* not JSON: keep the status line */
+  }
+  return new ApiError(res.status, body);
+}
+
+async function request<T>(path: string, init: RequestInit = {}): Promise<T> {
+  let res: Response;
+  try {
+    res = await fetch(path, { ...init, headers: { Accept: 'application/json', ...init.headers } });
+  } catch (e) {
+    if (isAbort(e)) throw e;
+    throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
+  }
+  if (!res.ok) throw await errorFromResponse(res);
+  if (res.status === 204) return undefined as T;
+  return (await res.json()) as T;
+}
+
+const ds = (id: string) => `/api/v1/datasets/${encodeURIComponent(id)}`;
+const withQuery = (path: string, q: URLSearchParams) => {
+  const s = q.toString();
+  return s ? `${path}?${s}` : path;
+};
+
+export const api = {
+  health: (signal?: AbortSignal) => request<Health>('/api/v1/health', { signal }),
+
+  datasets: (signal?: AbortSignal) => request<DatasetList>('/api/v1/datasets', { signal }),
+
+  dataset: (id: string, signal?: AbortSignal) => request<Dataset>(ds(id), { signal }),
+
+  deleteDataset: (id: string) => request<void>(ds(id), { method: 'DELETE' }),
+
+  summary(id: string, query: URLSearchParams, bins: number, signal?: AbortSignal) {
+    const q = new URLSearchParams(query);
+    q.set('bins', String(bins));
+    return request<Summary>(withQuery(`${ds(id)}/summary`, q), { signal });
+  },
+
+  flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal) {
+    const q = new URLSearchParams(query);
+    q.set('page', String(page));
+    q.set('page_size', String(pageSize));
+    return request<FlightPage>(withQuery(`${ds(id)}/flights`, q), { signal });
+  },
+
+  flight: (id: string, flightId: number, signal?: AbortSignal) =>
+    request<FlightFeature>(`${ds(id)}/flights/${flightId}`, { signal }),
+
+  job: (jobId: string, signal?: AbortSignal) => request<Job>(`/api/v1/jobs/${encodeURIComponent(jobId)}`, { signal }),
+
+  cancelJob: (jobId: string) => request<Job | void>(`/api/v1/jobs/${encodeURIComponent(jobId)}`, { method: 'DELETE' }),
+};
+
+export interface UploadHandle {
+  /** Resolves with the accepted ingest job once the whole body is sent. */
+  done: Promise<Job>;
+  abort(): void;
+}
+
+/**
+ * POSTs a raw file (plain or gzip) as a new data set. Uses XMLHttpRequest rather than fetch because
+ * only XHR reports upload progress, which matters for files of hundreds of MB.
+ */
+export function uploadDataset(
+  file: File,
+  opts: { name: string; format?: DatasetFormat; onProgress?: (fraction: number) => void },
+): UploadHandle {
+  const xhr = new XMLHttpRequest();
+  const q = new URLSearchParams({ name: opts.name });
+  if (opts.format) q.set('format', opts.format);
+  const done = new Promise<Job>((resolve, reject) => {
+    xhr.open('POST', `/api/v1/datasets?${q.toString()}`);
+    xhr.setRequestHeader('Content-Type', 'application/octet-stream');
+    xhr.setRequestHeader('Accept', 'application/json');
+    xhr.upload.onprogress = (e) => {
+      if (e.lengthComputable && opts.onProgress) opts.onProgress(e.loaded / e.total);
+    };
+    xhr.onload = () => {
+      let body: unknown = null;
+      try {
+        body = JSON.parse(xhr.responseText);
+      } catch {
+        /* handled below */
+      }
+      if (xhr.status >= 200 && xhr.status < 300 && body && typeof body === 'object' && 'job' in body) {
+        resolve((body as JobAccepted).job);
+      } else if (body && typeof body === 'object' && 'error' in body) {
+        reject(new ApiError(xhr.status, body as ApiErrorBody));
+      } else {
+        reject(new ApiError(xhr.status, { error: `http_${xhr.status}`, detail: `Upload failed (${xhr.status} ${xhr.statusText})` }));
+      }
+    };
+    xhr.onerror = () => reject(new ApiError(0, { error: 'network', detail: 'Upload failed: the server cannot be reached.' }));
+    xhr.onabort = () => reject(new DOMException('Upload cancelled', 'AbortError'));
+    xhr.send(file);
+  });
+  return { done, abort: () => xhr.abort() };
+}

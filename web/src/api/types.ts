@@ -1,0 +1,133 @@
+// Wire types of the TrailScope REST API and job WebSocket (see proto/ once it lands).
+// Times are Unix seconds (UTC); distances and altitudes are metres unless a field says otherwise.
+
+export interface ApiErrorBody {
+  error: string;
+  detail: string;
+  /** The query parameter the error is about, when there is one (e.g. "t0"). */
+  param?: string;
+}
+
+export interface Health {
+  status: string;
+  version: string;
+  opencl: { available: boolean; device?: string };
+}
+
+/** [west, south, east, north] in WGS84 degrees. */
+export type BBox = [number, number, number, number];
+
+export interface Dataset {
+  id: string;
+  name: string;
+  format: string;
+  flights: number;
+  points: number;
+  t_min: number;
+  t_max: number;
+  bbox: BBox;
+  alt_max_m: number;
+  created: string;
+  ingest?: Record<string, unknown>;
+}
+
+export interface DatasetList {
+  datasets: Dataset[];
+}
+
+export type JobState = 'queued' | 'running' | 'done' | 'failed' | 'cancelled';
+
+export interface Job {
+  id: string;
+  kind: string;
+  state: JobState;
+  /** 0..1 */
+  progress: number;
+  stage: string;
+  dataset: string;
+  error: ApiErrorBody | null;
+}
+
+export interface JobAccepted {
+  job: Job;
+}
+
+export interface TimeHistogram {
+  t0: number;
+  bin_seconds: number;
+  counts: number[];
+}
+
+export interface AltitudeHistogram {
+  unit: 'ft' | 'm';
+  bin_width: number;
+  min: number;
+  counts: number[];
+}
+
+export interface SpeedStats {
+  unit: string;
+  min: number;
+  max: number;
+  mean: number;
+  p50: number;
+  p95: number;
+}
+
+export interface CallsignCount {
+  callsign: string;
+  flights: number;
+  points: number;
+}
+
+export interface Summary {
+  dataset: string;
+  flights: number;
+  points: number;
+  t_min: number | null;
+  t_max: number | null;
+  time_histogram: TimeHistogram;
+  altitude_histogram: AltitudeHistogram;
+  speed: SpeedStats | null;
+  top_callsigns: CallsignCount[];
+  elapsed_ms: number;
+}
+
+export interface FlightRow {
+  id: number;
+  icao24: string;
+  callsign: string;
+  t_start: number;
+  t_end: number;
+  points: number;
+  alt_max_m: number;
+}
+
+export interface FlightPage {
+  total: number;
+  page: number;
+  page_size: number;
+  flights: FlightRow[];
+}
+
+export interface FlightProperties {
+  id: number;
+  icao24: string;
+  callsign: string;
+  times: number[];
+  altitudes_m: (number | null)[];
+  speeds_ms: (number | null)[];
+}
+
+export interface FlightFeature {
+  type: 'Feature';
+  geometry: { type: 'LineString'; coordinates: [number, number, number?][] };
+  properties: FlightProperties;
+}
+
+export type WsMessage = { type: 'job'; job: Job } | { type: string; [k: string]: unknown };
+
+export type DensityValue = 'count' | 'altitude' | 'speed';
+export type DensityHow = 'linear' | 'log' | 'eq_hist';
+export type Colormap = 'fire' | 'viridis' | 'inferno' | 'magma' | 'gray';
+export type DatasetFormat = 'opensky_csv' | 'traffic_json' | 'so6' | 'readsb_trace';

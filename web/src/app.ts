@@ -1,0 +1,367 @@
+// Wires the store, the API and the views together.
+
+import { ApiError, api, isAbort } from './api/client';
+import { buildQuery, densityTileTemplate, parseFilters, parseRender } from './api/query';
+import { JobSocket } from './api/socket';
+import type { Dataset, FlightRow, Job } from './api/types';
+import { byId, debounce, h, mount } from './lib/dom';
+import { Store, type AppState } from './state';
+import { Controls } from './views/controls';
+import { ErrorSlots } from './views/errors';
+import { FlightCard } from './views/flightCard';
+import { FlightList } from './views/flights';
+import { JobsView } from './views/jobs';
+import { MapView } from './views/map';
+import { SummaryView } from './views/summary';
+import { TimeBrush } from './views/timeBrush';
+
+const SUMMARY_BINS = 96;
+const PAGE_SIZE = 50;
+
+/** Latest-wins request channel: starting a new request aborts the previous one. */
+class Channel {
+  private ctrl: AbortController | null = null;
+  next(): AbortSignal {
+    this.ctrl?.abort();
+    this.ctrl = new AbortController();
+    return this.ctrl.signal;
+  }
+  cancel() {
+    this.ctrl?.abort();
+    this.ctrl = null;
+  }
+}
+
+interface HashState {
+  datasetId: string | null;
+  view: { lng: number; lat: number; zoom: number } | null;
+  flight: number | null;
+}
+
+function readHash(): { state: Partial<AppState>; extra: HashState } {
+  const q = new URLSearchParams(window.location.hash.replace(/^#/, ''));
+  const filters = parseFilters(q);
+  const useMapView = filters.bbox !== null || q.get('mapview') === '1';
+  filters.bbox = null;
+  const view = q.get('view')?.split(',').map(Number);
+  const flight = Number(q.get('flight'));
+  return {
+    state: { filters, render: parseRender(q), useMapView },
+    extra: {
+      datasetId: q.get('dataset'),
+      view: view && view.length === 3 && view.every(Number.isFinite) ? { lng: view[0]!, lat: view[1]!, zoom: view[2]! } : null,
+      flight: q.has('flight') && Number.isInteger(flight) ? flight : null,
+    },
+  };
+}
+
+export class App {
+  private readonly store: Store;
+  private readonly errors: ErrorSlots;
+  private readonly map: MapView;
+  private readonly summary: SummaryView;
+  private readonly brush: TimeBrush;
+  private readonly flights: FlightList;
+  private readonly card: FlightCard;
+  private readonly jobs: JobsView;
+  private readonly summaryCh = new Channel();
+  private readonly histCh = new Channel();
+  private readonly flightsCh = new Channel();
+  private readonly trackCh = new Channel();
+  private summaryKey = '';
+  private histKey = '';
+  private flightsKey = '';
+  private flightPage = 0;
+  private initialView: HashState['view'];
+  private initialFlight: number | null;
+  private readonly scheduleRefresh = debounce(() => this.refresh(), 60);
+  private readonly writeHash = debounce(() => this.syncHash(), 300);
+
+  constructor() {
+    const { state, extra } = readHash();
+    this.store = new Store(state);
+    this.initialView = extra.view;
+    this.initialFlight = extra.flight;
+    this.errors = new ErrorSlots(byId('banner'));
+
+    this.map = new MapView(byId('map'), {
+      onViewChange: (bbox) => {
+        this.store.set({ mapBBox: bbox });
+        this.writeHash();
+      },
+      onTileError: (err) => this.errors.show('tiles', err),
+      onTilesOk: () => this.errors.clear('tiles'),
+    });
+    (window as unknown as { trailscope: unknown }).trailscope = { map: this.map.map, store: this.store };
+
+    new Controls(byId('dataset-section'), byId('filter-section'), byId('render-section'), this.store, this.errors);
+    this.summary = new SummaryView(byId('summary-section'), {
+      onCallsign: (callsign) => this.store.setFilters({ callsign }),
+    });
+    this.brush = new TimeBrush(byId('timeline'), {
+      onWindow: (w) => this.store.setFilters({ t0: w?.start ?? null, t1: w?.end ?? null }),
+    });
+    const timeError = h('div', { id: 'time-error' });
+    byId('timeline').querySelector('.brush-head')!.append(timeError);
+    this.errors.register(['t0', 't1', 'bins'], timeError);
+
+    this.flights = new FlightList(byId('flights-section'), {
+      onPage: (p) => {
+        this.flightPage = p;
+        this.loadFlights();
+      },
+      onSelect: (row) => this.selectFlight(row),
+    });
+    this.card = new FlightCard(byId('map-overlay'), () => this.store.set({ selectedFlight: null }));
+    this.jobs = new JobsView(byId('jobs-section'), {
+      onJobDone: (job, mine) => this.onJobDone(job, mine),
+      onUploadError: (err) => this.errors.show('upload', err),
+    });
+    this.errors.register(['name', 'format'], byId('upload-error'));
+
+    this.store.subscribe((s, prev) => this.onState(s, prev));
+    window.addEventListener('keydown', (e) => {
+      if (e.key === 'Escape' && this.store.get().selectedFlight !== null && !(e.target as HTMLElement).closest('.brush-plot')) {
+        this.store.set({ selectedFlight: null });
+      }
+    });
+
+    this.brush.setWindow(spanOf(this.store.get()));
+    void this.loadHealth();
+    void this.loadDatasets(extra.datasetId);
+    const socket = new JobSocket({
+      onJob: (job) => this.jobs.update(job),
+      onState: (st) => {
+        this.jobs.setSocketOpen(st === 'open');
+        const dot = byId('ws-status');
+        dot.dataset.state = st;
+        dot.title = st === 'open' ? 'Live job updates connected' : st === 'connecting' ? 'Connecting to job updates…' : 'Job updates disconnected; retrying';
+      },
+    });
+    socket.start();
+  }
+
+  private onState(s: AppState, prev: AppState) {
+    if (s.datasetId !== prev.datasetId) this.onDatasetChange(s, prev);
+    if (s.filters.t0 !== prev.filters.t0 || s.filters.t1 !== prev.filters.t1) this.brush.setWindow(spanOf(s));
+    if (s.selectedFlight !== prev.selectedFlight) {
+      this.flights.setSelected(s.selectedFlight);
+      if (s.selectedFlight === null) {
+        this.trackCh.cancel();
+        this.card.hide();
+        this.map.showTrack(null);
+      }
+    }
+    const queryChanged =
+      s.datasetId !== prev.datasetId ||
+      s.filters !== prev.filters ||
+      s.render !== prev.render ||
+      s.useMapView !== prev.useMapView ||
+      (s.useMapView && s.mapBBox !== prev.mapBBox);
+    if (queryChanged) this.scheduleRefresh();
+    this.writeHash();
+  }
+
+  private onDatasetChange(s: AppState, prev: AppState) {
+    const d = this.store.dataset();
+    byId('dataset-title').textContent = d ? d.name : '';
+    // A time window belongs to one data set's time range.
+    if (prev.datasetId !== null && (s.filters.t0 !== null || s.filters.t1 !== null)) {
+      this.store.setFilters({ t0: null, t1: null });
+    }
+    this.summaryKey = this.histKey = this.flightsKey = '';
+    if (this.initialView) {
+      this.map.map.jumpTo({ center: [this.initialView.lng, this.initialView.lat], zoom: this.initialView.zoom });
+      this.initialView = null;
+    } else if (d) {
+      this.map.fitBBox(d.bbox, prev.datasetId !== null);
+    }
+  }
+
+  private async loadHealth() {
+    const el = byId('health');
+    try {
+      const hl = await api.health();
+      const cl = hl.opencl?.available ? `OpenCL: ${hl.opencl.device ?? 'yes'}` : 'CPU (no OpenCL)';
+      el.textContent = `v${hl.version} · ${cl}`;
+      el.title = `Server ${hl.status}, ${cl}`;
+      el.dataset.state = hl.status === 'ok' ? 'ok' : 'warn';
+    } catch (e) {
+      el.textContent = 'server unreachable';
+      el.dataset.state = 'error';
+      if (e instanceof ApiError) this.errors.show('health', e);
+    }
+  }
+
+  private async loadDatasets(prefer?: string | null) {
+    try {
+      const { datasets } = await api.datasets();
+      this.errors.clear('datasets');
+      const current = this.store.get().datasetId;
+      const pick = (id: string | null | undefined) => (id ? datasets.find((d) => d.id === id || d.name === id) : undefined);
+      const chosen = pick(prefer) ?? pick(current) ?? datasets[0] ?? null;
+      this.store.set({ datasets, datasetId: chosen?.id ?? null });
+      if (!chosen) this.showNoData('No data sets yet: upload one (left) or run trailscope ingest.');
+    } catch (e) {
+      if (e instanceof ApiError) {
+        this.errors.show('datasets', e);
+        this.showNoData(e.detail);
+      }
+    }
+  }
+
+  private showNoData(message: string) {
+    this.summary.setEmpty(message);
+    this.flights.setEmpty(message);
+    this.brush.setMessage('empty', message);
+    this.map.setDensity(null);
+  }
+
+  private onJobDone(job: Job, mine: boolean) {
+    if (job.state === 'done') void this.loadDatasets(mine ? job.dataset : undefined);
+    else if (mine && job.state === 'failed' && job.error) {
+      this.errors.show('upload', new ApiError(400, { error: job.error.error, detail: `Ingest of ${job.dataset} failed: ${job.error.detail}`, param: 'name' }));
+    }
+  }
+
+  /** Re-issues whatever the current state needs: summary, brush histogram, flights and the tile template. */
+  private refresh() {
+    const d = this.store.dataset();
+    if (!d) return;
+    const s = this.store.get();
+    const eff = this.store.effectiveFilters();
+    if (s.useMapView && !eff.bbox) return; // the map has not reported its view yet
+    const q = buildQuery(eff);
+    const qs = q.toString();
+    const qNoTime = buildQuery(eff, { withoutTime: true });
+    const key = `${d.id}?${qs}`;
+    const histKey = `${d.id}?${qNoTime.toString()}`;
+
+    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, buildQuery(eff, { withoutBBox: true }), s.render));
+
+    if (key !== this.summaryKey) {
+      this.summaryKey = key;
+      // Without a time window the summary's own histogram is the brush's histogram.
+      const sharesHistogram = histKey === key;
+      if (sharesHistogram) {
+        this.histCh.cancel();
+        this.histKey = histKey;
+      }
+      void this.loadSummary(d, q, sharesHistogram);
+    }
+    if (histKey !== this.histKey) {
+      this.histKey = histKey;
+      void this.loadHistogram(d, qNoTime);
+    }
+    if (key !== this.flightsKey) {
+      this.flightsKey = key;
+      this.flightPage = 0;
+      this.loadFlights();
+    }
+  }
+
+  private async loadSummary(d: Dataset, q: URLSearchParams, feedsBrush: boolean) {
+    const signal = this.summaryCh.next();
+    this.summary.setLoading();
+    if (feedsBrush) this.brush.setLoading();
+    try {
+      const s = await api.summary(d.id, q, SUMMARY_BINS, signal);
+      this.errors.clear('query');
+      this.summary.set(s, q.toString());
+      if (feedsBrush) this.brush.setData(s.time_histogram, d.t_min, d.t_max);
+    } catch (e) {
+      if (isAbort(e)) return;
+      this.summaryKey = ''; // let the same query be retried
+      const err = e instanceof ApiError ? e : new ApiError(0, { error: 'client', detail: String(e) });
+      this.errors.show('query', err);
+      this.summary.setError(err.param ? `Invalid ${err.param}: ${err.detail}` : err.detail);
+      if (feedsBrush) this.brush.setMessage('error', err.detail);
+    }
+  }
+
+  private async loadHistogram(d: Dataset, q: URLSearchParams) {
+    const signal = this.histCh.next();
+    this.brush.setLoading();
+    try {
+      const s = await api.summary(d.id, q, SUMMARY_BINS, signal);
+      this.brush.setData(s.time_histogram, d.t_min, d.t_max);
+    } catch (e) {
+      if (isAbort(e)) return;
+      this.histKey = '';
+      this.brush.setMessage('error', e instanceof ApiError ? e.detail : String(e));
+    }
+  }
+
+  private loadFlights() {
+    const d = this.store.dataset();
+    if (!d) return;
+    const q = buildQuery(this.store.effectiveFilters());
+    const signal = this.flightsCh.next();
+    this.flights.setLoading();
+    api
+      .flights(d.id, q, this.flightPage, PAGE_SIZE, signal)
+      .then((p) => {
+        this.flights.set(p);
+        this.flights.setSelected(this.store.get().selectedFlight);
+        if (this.initialFlight !== null) {
+          const id = this.initialFlight;
+          this.initialFlight = null;
+          const row = p.flights.find((f) => f.id === id);
+          if (row) this.selectFlight(row);
+        }
+      })
+      .catch((e: unknown) => {
+        if (isAbort(e)) return;
+        this.flightsKey = '';
+        this.flights.setError(e instanceof ApiError ? e.detail : String(e));
+      });
+  }
+
+  private selectFlight(row: FlightRow) {
+    const d = this.store.dataset();
+    if (!d) return;
+    this.store.set({ selectedFlight: row.id });
+    this.card.loading(row);
+    const signal = this.trackCh.next();
+    api
+      .flight(d.id, row.id, signal)
+      .then((f) => {
+        if (this.store.get().selectedFlight !== row.id) return;
+        this.map.showTrack(f);
+        this.card.show(row, f);
+      })
+      .catch((e: unknown) => {
+        if (isAbort(e)) return;
+        this.card.error(row, e instanceof ApiError ? e.detail : String(e));
+      });
+  }
+
+  private syncHash() {
+    const s = this.store.get();
+    if (!s.datasetId) return;
+    const q = buildQuery({ ...s.filters, bbox: null });
+    const p = new URLSearchParams({ dataset: s.datasetId });
+    for (const [k, v] of q) p.set(k, v);
+    if (s.useMapView) p.set('mapview', '1');
+    p.set('value', s.render.value);
+    p.set('how', s.render.how);
+    p.set('cmap', s.render.cmap);
+    const c = this.map.map.getCenter();
+    p.set('view', `${c.lng.toFixed(4)},${c.lat.toFixed(4)},${this.map.map.getZoom().toFixed(2)}`);
+    if (s.selectedFlight !== null) p.set('flight', String(s.selectedFlight));
+    const next = `#${p.toString()}`;
+    if (window.location.hash !== next) history.replaceState(null, '', next);
+  }
+}
+
+function spanOf(s: AppState) {
+  const { t0, t1 } = s.filters;
+  return t0 !== null && t1 !== null ? { start: t0, end: t1 } : null;
+}
+
+export function showFatal(err: unknown) {
+  const banner = document.getElementById('banner');
+  if (!banner) return;
+  mount(banner, `TrailScope failed to start: ${err instanceof Error ? err.message : String(err)}`);
+  banner.hidden = false;
+}

@@ -1,0 +1,26 @@
+import { defineConfig } from 'vitest/config';
+
+// The C++ server (`trailscope serve`) serves web/dist at `/`, on the same origin as the API.
+// In development, `npm run dev` proxies the API, the tiles and the job WebSocket to a local server.
+const backend = process.env.TRAILSCOPE_BACKEND ?? 'http://127.0.0.1:8080';
+
+export default defineConfig({
+  base: '/',
+  build: {
+    outDir: 'dist',
+    emptyOutDir: true,
+    sourcemap: true,
+    chunkSizeWarningLimit: 1500,
+  },
+  server: {
+    proxy: {
+      '/api/v1/ws': { target: backend, ws: true, changeOrigin: true },
+      '/api': { target: backend, changeOrigin: true },
+      '/tiles': { target: backend, changeOrigin: true },
+    },
+  },
+  test: {
+    include: ['src/**/*.test.ts'],
+    environment: 'node',
+  },
+});
