@@ -150,3 +150,22 @@ export function parseRender(q: URLSearchParams): RenderOptions {
     cmap: pick(q.get('cmap'), COLORMAPS, DEFAULT_RENDER.cmap),
   };
 }
+
+const KNOWN_EXTENSIONS = /\.(gz|gzip|zst|so6|json|jsonl|csv|txt|trace|readsb)$/i;
+
+/**
+ * A data set id from an uploaded file's name: the server accepts 1–64 of [a-z0-9_-].
+ * "traffic_europe_20180101_m3.so6.gz" → "traffic_europe_20180101_m3".
+ */
+export function datasetNameFromFile(fileName: string): string {
+  let base = fileName.replace(/^.*[\\/]/, '');
+  while (KNOWN_EXTENSIONS.test(base)) base = base.replace(KNOWN_EXTENSIONS, '');
+  const id = base
+    .toLowerCase()
+    .replace(/[^a-z0-9_-]+/g, '-')
+    .replace(/-{2,}/g, '-')
+    .replace(/^-+|-+$/g, '')
+    .slice(0, 64)
+    .replace(/-+$/, '');
+  return id || 'dataset';
+}

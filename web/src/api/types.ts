@@ -67,6 +67,8 @@ export interface AltitudeHistogram {
 
 export interface SpeedStats {
   unit: string;
+  /** Points with a speed; min..p95 are 0 when it is 0. */
+  count?: number;
   min: number;
   max: number;
   mean: number;
@@ -90,6 +92,8 @@ export interface Summary {
   altitude_histogram: AltitudeHistogram;
   speed: SpeedStats | null;
   top_callsigns: CallsignCount[];
+  /** The server's canonical form of the query it answered. */
+  query?: string;
   elapsed_ms: number;
 }
 

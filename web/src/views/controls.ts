@@ -47,7 +47,7 @@ export class Controls {
     datasetRoot: HTMLElement,
     filterRoot: HTMLElement,
     renderRoot: HTMLElement,
-    private readonly store: Store,
+    store: Store,
     errors: ErrorSlots,
   ) {
     // Data set

@@ -13,7 +13,6 @@ export class FlightList {
   private readonly list: HTMLElement;
   private readonly count: HTMLElement;
   private readonly pager: HTMLElement;
-  private page: FlightPage | null = null;
   private selected: number | null = null;
 
   constructor(private readonly root: HTMLElement, private readonly events: FlightListEvents) {
@@ -44,7 +43,6 @@ export class FlightList {
   }
 
   setEmpty(message: string): void {
-    this.page = null;
     this.root.dataset.state = 'empty';
     this.root.classList.remove('is-loading');
     this.count.textContent = '';
@@ -53,7 +51,6 @@ export class FlightList {
   }
 
   setError(message: string): void {
-    this.page = null;
     this.root.dataset.state = 'error';
     this.root.classList.remove('is-loading');
     this.count.textContent = '';
@@ -71,7 +68,6 @@ export class FlightList {
   }
 
   set(p: FlightPage): void {
-    this.page = p;
     this.root.dataset.state = 'ready';
     this.root.classList.remove('is-loading');
     this.count.textContent = `${formatInt(p.total)} total`;

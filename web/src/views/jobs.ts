@@ -1,6 +1,7 @@
 // Upload a data set and follow ingest jobs (WebSocket events, with polling while the socket is down).
 
 import { ApiError, api, isAbort, uploadDataset } from '../api/client';
+import { datasetNameFromFile } from '../api/query';
 import type { DatasetFormat, Job } from '../api/types';
 import { h, mount } from '../lib/dom';
 import { formatBytes } from '../lib/format';
@@ -23,6 +24,7 @@ const FINISHED = new Set(['done', 'failed', 'cancelled']);
 
 interface Upload {
   file: File;
+  name: string;
   fraction: number;
   abort(): void;
 }
@@ -31,6 +33,7 @@ export class JobsView {
   private readonly list: HTMLElement;
   private readonly fileInput: HTMLInputElement;
   private readonly format: HTMLSelectElement;
+  private readonly name: HTMLInputElement;
   private readonly jobs = new Map<string, Job>();
   private readonly mine = new Set<string>();
   private readonly reported = new Set<string>();
@@ -50,6 +53,17 @@ export class JobsView {
       { id: 'upload-format', 'aria-label': 'Format of the uploaded file', 'data-param': 'format' },
       ...FORMATS.map((f) => h('option', { value: f.value }, f.label)),
     );
+    this.name = h('input', {
+      id: 'upload-name',
+      type: 'text',
+      placeholder: 'name (from the file name)',
+      pattern: '[a-z0-9_\\-]{1,64}',
+      autocomplete: 'off',
+      spellcheck: 'false',
+      'aria-label': 'Name of the new data set',
+      'data-testid': 'upload-name',
+      'data-param': 'name',
+    });
     this.list = h('ul', { class: 'job-list', 'data-testid': 'job-list', 'aria-live': 'polite' });
     root.append(
       h(
@@ -58,6 +72,7 @@ export class JobsView {
         h('label', { class: 'btn', for: 'upload-file', title: 'SO6, OpenSky CSV, traffic JSON or a readsb trace; plain or gzip' }, 'Upload data set…', this.fileInput),
         this.format,
       ),
+      h('div', { class: 'upload-name' }, this.name),
       h('div', { id: 'upload-error' }),
       this.list,
     );
@@ -81,7 +96,8 @@ export class JobsView {
   }
 
   private upload(file: File) {
-    const name = file.name;
+    const name = this.name.value.trim() || datasetNameFromFile(file.name);
+    this.name.value = '';
     const format = (this.format.value || undefined) as DatasetFormat | undefined;
     const handle = uploadDataset(file, {
       name,
@@ -91,7 +107,7 @@ export class JobsView {
         this.render();
       },
     });
-    const up: Upload = { file, fraction: 0, abort: handle.abort };
+    const up: Upload = { file, name, fraction: 0, abort: handle.abort };
     this.uploads.push(up);
     this.render();
     handle.done
@@ -130,7 +146,7 @@ export class JobsView {
         h(
           'li',
           { class: 'job', 'data-state': 'uploading' },
-          h('div', { class: 'job-line' }, h('span', { class: 'job-name', title: u.file.name }, u.file.name), h('span', { class: 'job-state' }, `uploading · ${formatBytes(u.file.size)}`)),
+          h('div', { class: 'job-line' }, h('span', { class: 'job-name', title: u.file.name }, u.name), h('span', { class: 'job-state' }, `uploading · ${formatBytes(u.file.size)}`)),
           progress(u.fraction, `Uploading ${u.file.name}`),
           h('button', { type: 'button', class: 'link-button', onclick: () => u.abort() }, 'Cancel'),
         ),

@@ -79,7 +79,7 @@ export class SummaryView {
 
     const sp = s.speed;
     const speed =
-      sp && s.points > 0
+      sp && s.points > 0 && sp.count !== 0
         ? h(
             'div',
             { class: 'speed-grid', 'aria-label': 'Ground speed' },

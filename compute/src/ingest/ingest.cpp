@@ -1,0 +1,67 @@
+// ingest_file(): open, detect, dispatch to the reader, build the TrailSet, fill the report.
+#include "trailscope/ingest/ingest.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "ingest/detail.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/trails/trail_set_builder.hpp"
+
+namespace trailscope::ingest {
+
+nlohmann::json IngestReport::to_json() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Reject& r : rejects) list.push_back({{"line", r.line}, {"reason", r.reason}});
+  return {{"format", to_string(format)}, {"rows", rows},         {"accepted", accepted},
+          {"rejected", rejected},        {"duplicates", duplicates}, {"flights", flights},
+          {"points", points},            {"rejects", std::move(list)}, {"seconds", seconds}};
+}
+
+TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!(opts.gap_seconds > 0))
+    throw invalid_argument("gap_seconds", "gap_seconds must be > 0 (seconds), got " + std::to_string(opts.gap_seconds));
+  if (opts.cancel) opts.cancel->throw_if_cancelled();
+
+  detail::ByteSource src(path);
+  IngestReport rep;
+  rep.format = opts.format ? *opts.format : detect_format(src.head());
+  TrailSetBuilder builder;
+  detail::ReadContext ctx{src, builder, rep, opts, opts.gap_seconds};
+  switch (rep.format) {
+    case Format::opensky_csv: detail::read_opensky_csv(ctx); break;
+    case Format::traffic_json: detail::read_traffic_json(ctx); break;
+    case Format::so6: detail::read_so6(ctx); break;
+    case Format::readsb_trace: detail::read_readsb_trace(ctx); break;
+  }
+  if (opts.cancel) opts.cancel->throw_if_cancelled();
+  if (opts.progress) opts.progress(1.0, "parse");
+
+  if (rep.rows == 0)
+    throw Error(Error::Kind::unprocessable, "file",
+                std::string("no data rows in '") + path + "' (read as " + to_string(rep.format) + ")");
+  if (rep.accepted == 0) {
+    std::string msg = "no valid rows: all " + std::to_string(rep.rows) + " rows of '" + path + "' (read as " +
+                      to_string(rep.format) + ") were rejected";
+    for (std::size_t i = 0; i < rep.rejects.size() && i < 3; ++i)
+      msg += std::string(i ? "; " : ": ") + "line " + std::to_string(rep.rejects[i].line) + ": " +
+             rep.rejects[i].reason;
+    throw Error(Error::Kind::unprocessable, "file", msg);
+  }
+
+  if (opts.progress) opts.progress(0.0, "assemble");
+  TrailSetBuilder::Stats stats;
+  TrailSet set = builder.build(&stats, ctx.gap_seconds);
+  if (opts.cancel) opts.cancel->throw_if_cancelled();
+  if (opts.progress) opts.progress(1.0, "assemble");
+
+  rep.duplicates = stats.duplicates + ctx.reader_duplicates;
+  rep.flights = set.num_flights();
+  rep.points = set.num_points();
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (report) *report = std::move(rep);
+  return set;
+}
+
+}  // namespace trailscope::ingest

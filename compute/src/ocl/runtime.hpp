@@ -1,0 +1,47 @@
+#pragma once
+// Private OpenCL runtime: the one place (with the other compute/src/ocl/*.cpp files) that includes the
+// OpenCL C++ bindings. One context and one in-order queue per process, created lazily and thread-safely
+// on the device that ocl_info.hpp describes, and a cache of built programs keyed by kernel name + source
+// MD5 + build options.
+//
+// Portability: kernels are OpenCL C 1.2 (PoCL 3.1 reports "OpenCL C 1.2" only, and NVIDIA's compiler
+// takes -cl-std=CL1.2 too), built with -cl-std=CL1.2. The bindings are compiled for 3.0 with a 2.0
+// minimum (the one combination besides 1.2/1.2 that compiles with the 2023.02.06 headers), so the queue
+// of a platform older than 2.0 is created through the 1.2 C entry point instead of
+// clCreateCommandQueueWithProperties.
+#ifndef TRAILSCOPE_HAVE_OPENCL
+#error "ocl/runtime.hpp is only compiled with TRAILSCOPE_HAVE_OPENCL"
+#endif
+
+#define CL_USE_DEPRECATED_OPENCL_1_2_APIS  // clCreateCommandQueue for 1.x platforms
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+#include <string>
+
+namespace trailscope::ocl {
+
+struct DeviceContext {
+  cl::Platform platform;
+  cl::Device device;
+  cl::Context context;
+  cl::CommandQueue queue;  ///< in-order; enqueues are thread-safe, one kernel object per call
+  std::string platform_name, device_name, device_version, device_type;
+  bool is_gpu = false;         ///< GPU or accelerator
+  bool int64_atomics = false;  ///< cl_khr_int64_base_atomics
+  std::size_t max_alloc_bytes = 0;
+};
+
+/// The process's device context, or nullptr when OpenCL is unavailable (then `reason`, if given, says
+/// why). Initialises on first call; never throws.
+const DeviceContext* device_context(std::string* reason = nullptr) noexcept;
+
+/// The built program of embedded kernel `kernel_name` with extra build `options` (appended after
+/// -cl-std=CL1.2), from the cache or built now. Throws Error(Kind::backend) when OpenCL is unavailable,
+/// the kernel is not embedded, or the build fails (the message carries the build log).
+cl::Program program(const std::string& kernel_name, const std::string& options = {});
+
+/// "CL_OUT_OF_RESOURCES (-5) in clEnqueueNDRangeKernel" for a cl::Error.
+std::string describe(const cl::Error& e);
+
+}  // namespace trailscope::ocl

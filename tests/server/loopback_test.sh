@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# End-to-end over loopback: the real binary, real uploads, restarts and a kill in the middle of an ingest.
+# Usage: loopback_test.sh TRAILSCOPE_BIN SHARED_DIR
+set -uo pipefail
+BIN=$(readlink -f "$1")
+SHARED=$(readlink -f "$2")
+SO6="$SHARED/data/flights/traffic_europe_20180101_m3.so6.gz"
+TMP=$(mktemp -d)
+PASS=0 FAIL=0
+SERVER_PID=
+cleanup() { [ -n "$SERVER_PID" ] && kill -9 "$SERVER_PID" 2>/dev/null; rm -rf "$TMP"; }
+trap cleanup EXIT
+
+check() {  # check NAME EXPECTED ACTUAL
+  if [ "$2" == "$3" ]; then PASS=$((PASS + 1)); echo "ok   $1"
+  else FAIL=$((FAIL + 1)); echo "FAIL $1: expected '$2', got '$3'"; fi
+}
+
+start() {
+  "$BIN" serve --data-dir "$TMP/data" --port 0 --host 127.0.0.1 --web-root /nonexistent > "$TMP/server.log" 2>&1 &
+  SERVER_PID=$!
+  for _ in $(seq 1 100); do
+    PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f2)
+    [ -n "$PORT" ] && break
+    sleep 0.1
+  done
+  URL="http://127.0.0.1:$PORT"
+}
+stop() { kill -TERM "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=; }
+json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
+wait_job() {
+  for _ in $(seq 1 600); do
+    state=$(curl -s "$URL/api/v1/jobs/$1" | json 'd["state"]')
+    case "$state" in done|failed|cancelled) echo "$state"; return;; esac
+    sleep 0.1
+  done
+  echo timeout
+}
+
+start
+check "health" ok "$(curl -s "$URL/api/v1/health" | json 'd["status"]')"
+
+# Streamed upload of the real Europe day, ingested as a job.
+job=$(curl -s --data-binary @"$SO6" "$URL/api/v1/datasets?name=europe" | json 'd["job"]["id"]')
+check "upload job ends done" done "$(wait_job "$job")"
+check "europe flights" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
+summary=$(curl -s "$URL/api/v1/datasets/europe/summary?t0=2018-01-01T08:00:00Z&t1=2018-01-01T10:00:00Z&bbox=-5,45,10,55")
+check "summary has flights" True "$(echo "$summary" | json 'd["flights"] > 100')"
+
+# Errors: exact status and the parameter named.
+check "bad t0 status" 400 "$(curl -s -o "$TMP/e.json" -w '%{http_code}' "$URL/api/v1/datasets/europe/summary?t0=soon")"
+check "bad t0 param" t0 "$(json 'd["param"]' < "$TMP/e.json")"
+check "unknown dataset" 404 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets/nope/summary")"
+check "oversized upload refused" 413 "$(curl -s -o "$TMP/e.json" -w '%{http_code}' -H 'Content-Length: 3000000000' --data-binary 'x' "$URL/api/v1/datasets?name=big")"
+check "oversized upload param" body "$(json 'd["param"]' < "$TMP/e.json")"
+check "malformed request target" 400 "$(curl -s -g -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets?a=%zz")"
+
+# Restart: the dataset is back.
+stop
+start
+check "dataset survives restart" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
+
+# Kill -9 in the middle of an ingest: nothing half-written appears, nothing stored is lost.
+zcat "$SO6" > "$TMP/big.so6"; for _ in 1 2 3 4 5 6 7; do zcat "$SO6" | sed 's/ 180101 180101 / 180102 180102 /' >> "$TMP/big.so6"; done
+curl -s --data-binary @"$TMP/big.so6" "$URL/api/v1/datasets?name=killed" > /dev/null &
+for _ in $(seq 1 100); do
+  st=$(curl -s "$URL/api/v1/jobs/j1" | json 'd["state"]' 2>/dev/null)
+  [ "$st" == "running" ] && break
+  sleep 0.05
+done
+kill -9 "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=
+start
+check "killed ingest left no dataset" 404 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets/killed")"
+check "earlier dataset intact" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
+check "no leftovers in tmp/" 0 "$(ls "$TMP/data/tmp" | wc -l)"
+check "no leftovers in uploads/" 0 "$(ls "$TMP/data/uploads" | wc -l)"
+
+# Delete.
+check "delete" 204 "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$URL/api/v1/datasets/europe")"
+check "deleted is gone" 404 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets/europe")"
+stop
+
+echo "$PASS passed, $FAIL failed"
+[ "$FAIL" -eq 0 ]

@@ -1,0 +1,74 @@
+// proto/openapi.yaml and the router list the same routes, and the OpenAPI file quotes every limit.
+#include <fstream>
+#include <regex>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "routes/app.hpp"
+#include "store/embedded_store.hpp"
+#include "test_support.hpp"
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope::server {
+namespace {
+
+std::vector<std::string> openapi_lines() {
+  std::ifstream in(test::source_dir() / "proto" / "openapi.yaml");
+  EXPECT_TRUE(in.good());
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+TEST(OpenApi, ListsEveryRouteOfTheRouter) {
+  std::set<std::string> documented;
+  std::string path;
+  const std::regex path_re(R"(^  (/[^:]*):\s*$)"), method_re(R"(^    (get|post|put|delete|patch):)");
+  for (const auto& l : openapi_lines()) {
+    std::smatch m;
+    if (std::regex_match(l, m, path_re)) path = m[1];
+    else if (std::regex_search(l, m, method_re)) {
+      std::string method = m[1];
+      for (char& c : method) c = static_cast<char>(std::toupper(c));
+      documented.insert(method + " " + path);
+    }
+  }
+  test::TempDir tmp;
+  auto store = std::make_shared<EmbeddedStore>(tmp.path());
+  App app(store, store->upload_dir(), {}, 1 << 20);
+  const Router router = make_router(app);
+  std::set<std::string> routed = {"GET /api/v1/ws"};  // the WebSocket upgrade is taken before routing
+  for (const auto& r : router.routes()) routed.insert(r.method + " " + r.pattern);
+  EXPECT_EQ(documented, routed);
+}
+
+TEST(OpenApi, QuotesEveryLimit) {
+  std::map<std::string, std::string> quoted;
+  const std::regex re(R"(^  (k[A-Za-z0-9]+): (\S+))");
+  for (const auto& l : openapi_lines()) {
+    std::smatch m;
+    if (std::regex_search(l, m, re)) quoted[m[1]] = m[2];
+  }
+  namespace L = limits;
+  const std::map<std::string, double> actual = {
+      {"kMaxUploadBytes", double(L::kMaxUploadBytes)}, {"kMaxRequestBodyBytes", double(L::kMaxRequestBodyBytes)},
+      {"kRequestTimeoutSeconds", L::kRequestTimeoutSeconds}, {"kUploadTimeoutSeconds", L::kUploadTimeoutSeconds},
+      {"kMaxPipelinedRequests", double(L::kMaxPipelinedRequests)},
+      {"kMaxWebSocketMessageBytes", double(L::kMaxWebSocketMessageBytes)},
+      {"kMaxQuerySpanSeconds", L::kMaxQuerySpanSeconds}, {"kMaxIcao24PerQuery", double(L::kMaxIcao24PerQuery)},
+      {"kMaxCallsignPatternLength", double(L::kMaxCallsignPatternLength)}, {"kMaxPageSize", double(L::kMaxPageSize)},
+      {"kDefaultPageSize", double(L::kDefaultPageSize)}, {"kMaxPointsPerResponse", double(L::kMaxPointsPerResponse)},
+      {"kMaxHistogramBins", L::kMaxHistogramBins}, {"kMaxTopCallsigns", L::kMaxTopCallsigns},
+      {"kMinZoom", L::kMinZoom}, {"kMaxZoom", L::kMaxZoom}, {"kMaxKernelRadiusPx", L::kMaxKernelRadiusPx},
+      {"kTileCacheBytes", double(L::kTileCacheBytes)}, {"kFlightGapSeconds", L::kFlightGapSeconds},
+  };
+  for (const auto& [name, value] : actual) {
+    ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";
+    EXPECT_DOUBLE_EQ(std::stod(quoted[name]), value) << name;
+  }
+  EXPECT_EQ(quoted.size(), actual.size());
+}
+
+}  // namespace
+}  // namespace trailscope::server
