@@ -176,6 +176,13 @@ await test('density tiles for the current view load (200 image/png)', async () =
   const map = await page.$(sel('map'));
   const template = await map.getAttribute('data-density-template');
   const bounds = (await map.getAttribute('data-bounds')).split(',').map(Number);
+  // The map must actually be on screen (a 0-px canvas still "loads" tiles and passes queries).
+  const canvas = await page.evaluate(() => {
+    const c = window.trailscope.map.getCanvas();
+    return { w: c.clientWidth, h: c.clientHeight };
+  });
+  assert(canvas.w >= 400 && canvas.h >= 300, `the map canvas is laid out (${canvas.w}×${canvas.h})`);
+  assert(bounds[2] - bounds[0] > 1 && bounds[3] - bounds[1] > 1, `the view spans an area (${bounds.join(', ')})`);
   const tileQuery = template.split('?')[1];
   const re = new RegExp(`/tiles/${DATASET}/density/(\\d+)/(\\d+)/(\\d+)\\.png$`);
   const current = tileResponses

@@ -21,7 +21,7 @@ die() { echo "run.sh: $*" >&2; echo "0 passed, 1 failed"; exit 1; }
 if [ ! -f web/dist/index.html ] || [ -n "$(find web/src web/index.html web/vite.config.ts -newer web/dist/index.html -print -quit)" ]; then
   echo "run.sh: building web/dist"
   [ -d web/node_modules ] || npm ci --prefix web --no-audit --no-fund
-  npm run --prefix web build >/dev/null
+  build_log="$(npm run --prefix web build 2>&1)" || { echo "$build_log" >&2; die "web build failed"; }
 fi
 [ -d tests/e2e/node_modules/playwright-core ] || npm ci --prefix tests/e2e --no-audit --no-fund
 

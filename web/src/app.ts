@@ -1,9 +1,9 @@
 // Wires the store, the API and the views together.
 
 import { ApiError, api, isAbort } from './api/client';
-import { buildQuery, densityTileTemplate, parseFilters, parseRender } from './api/query';
+import { buildQuery, densityTileTemplate, parseFilters, parseRender, validateFilters } from './api/query';
 import { JobSocket } from './api/socket';
-import type { Dataset, FlightRow, Job } from './api/types';
+import type { Dataset, FlightRow, Job, Summary } from './api/types';
 import { byId, debounce, h, mount } from './lib/dom';
 import { Store, type AppState } from './state';
 import { Controls } from './views/controls';
@@ -165,6 +165,7 @@ export class App {
   private onDatasetChange(s: AppState, prev: AppState) {
     const d = this.store.dataset();
     byId('dataset-title').textContent = d ? d.name : '';
+    this.flights.setMultiDay(d !== null && Math.floor(d.t_min / 86400) !== Math.floor(d.t_max / 86400));
     // A time window belongs to one data set's time range.
     if (prev.datasetId !== null && (s.filters.t0 !== null || s.filters.t1 !== null)) {
       this.store.setFilters({ t0: null, t1: null });
@@ -224,34 +225,54 @@ export class App {
     }
   }
 
-  /** Re-issues whatever the current state needs: summary, brush histogram, flights and the tile template. */
+  /**
+   * Re-issues what the current state needs. The summary goes first and acts as the query's check:
+   * only once the server accepts a query are tiles, the brush histogram and the flight list asked for
+   * (an invalid filter would otherwise fail every visible tile). Render-only changes swap tiles at once.
+   */
   private refresh() {
     const d = this.store.dataset();
     if (!d) return;
     const s = this.store.get();
     const eff = this.store.effectiveFilters();
     if (s.useMapView && !eff.bbox) return; // the map has not reported its view yet
-    const q = buildQuery(eff);
-    const qs = q.toString();
-    const qNoTime = buildQuery(eff, { withoutTime: true });
-    const key = `${d.id}?${qs}`;
-    const histKey = `${d.id}?${qNoTime.toString()}`;
-
-    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, buildQuery(eff, { withoutBBox: true }), s.render));
-
-    if (key !== this.summaryKey) {
-      this.summaryKey = key;
-      // Without a time window the summary's own histogram is the brush's histogram.
-      const sharesHistogram = histKey === key;
-      if (sharesHistogram) {
-        this.histCh.cancel();
-        this.histKey = histKey;
-      }
-      void this.loadSummary(d, q, sharesHistogram);
+    const problem = validateFilters(eff);
+    if (problem) {
+      this.summaryCh.cancel();
+      this.summaryKey = '';
+      const err = new ApiError(400, { error: 'invalid_argument', ...problem });
+      this.errors.show('query', err);
+      this.summary.setError('Fix the highlighted filter to update the view.');
+      return;
     }
+    const q = buildQuery(eff);
+    const key = `${d.id}?${q.toString()}`;
+    if (key === this.summaryKey) {
+      this.afterSummary(d);
+      return;
+    }
+    this.summaryKey = key;
+    void this.loadSummary(d, q);
+  }
+
+  /** The requests that follow an accepted query (each skipped when its own key is unchanged). */
+  private afterSummary(d: Dataset, summary?: Summary) {
+    const s = this.store.get();
+    const eff = this.store.effectiveFilters();
+    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, buildQuery(eff, { withoutBBox: true }), s.render));
+    const q = buildQuery(eff);
+    const key = `${d.id}?${q.toString()}`;
+    const qNoTime = buildQuery(eff, { withoutTime: true });
+    const histKey = `${d.id}?${qNoTime.toString()}`;
     if (histKey !== this.histKey) {
       this.histKey = histKey;
-      void this.loadHistogram(d, qNoTime);
+      // Without a time window the summary's own histogram is the brush's histogram.
+      if (summary && histKey === key) {
+        this.histCh.cancel();
+        this.brush.setData(summary.time_histogram, d.t_min, d.t_max);
+      } else {
+        void this.loadHistogram(d, qNoTime);
+      }
     }
     if (key !== this.flightsKey) {
       this.flightsKey = key;
@@ -260,22 +281,20 @@ export class App {
     }
   }
 
-  private async loadSummary(d: Dataset, q: URLSearchParams, feedsBrush: boolean) {
+  private async loadSummary(d: Dataset, q: URLSearchParams) {
     const signal = this.summaryCh.next();
     this.summary.setLoading();
-    if (feedsBrush) this.brush.setLoading();
     try {
       const s = await api.summary(d.id, q, SUMMARY_BINS, signal);
       this.errors.clear('query');
       this.summary.set(s, q.toString());
-      if (feedsBrush) this.brush.setData(s.time_histogram, d.t_min, d.t_max);
+      this.afterSummary(d, s);
     } catch (e) {
       if (isAbort(e)) return;
       this.summaryKey = ''; // let the same query be retried
       const err = e instanceof ApiError ? e : new ApiError(0, { error: 'client', detail: String(e) });
       this.errors.show('query', err);
-      this.summary.setError(err.param ? `Invalid ${err.param}: ${err.detail}` : err.detail);
-      if (feedsBrush) this.brush.setMessage('error', err.detail);
+      this.summary.setError(err.param ? 'Fix the highlighted filter to update the view.' : err.detail);
     }
   }
 
@@ -304,10 +323,12 @@ export class App {
         this.flights.set(p);
         this.flights.setSelected(this.store.get().selectedFlight);
         if (this.initialFlight !== null) {
+          // A shared link names a flight that may sit on another page: open it anyway.
           const id = this.initialFlight;
           this.initialFlight = null;
-          const row = p.flights.find((f) => f.id === id);
-          if (row) this.selectFlight(row);
+          this.selectFlight(
+            p.flights.find((f) => f.id === id) ?? { id, icao24: '', callsign: '', t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN },
+          );
         }
       })
       .catch((e: unknown) => {

@@ -1,5 +1,7 @@
 #include "trailscope/density/canvas.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "trailscope/core/error.hpp"

@@ -34,7 +34,8 @@ const char* check_sample(const Sample& s) noexcept {
   if (s.alt < kMinAltitude || s.alt > kMaxAltitude) return "altitude out of range [-1500, 50000] m";
   if (s.speed < 0.0f || s.speed > kMaxSpeed) return "ground speed out of range [0, 1500] m/s";
   if (std::isinf(s.track)) return "track is not finite";
-  if (s.vrate < -kMaxVerticalRate || s.vrate > kMaxVerticalRate) return "vertical rate out of range [-200, 200] m/s";
+  if (s.vrate < -kMaxVerticalRate || s.vrate > kMaxVerticalRate)
+    return "vertical rate out of range [-200, 200] m/s";
   return nullptr;
 }
 

@@ -101,11 +101,16 @@ inline std::string_view trim(std::string_view s) noexcept {
 /// Tokens that mean "no value" in the CSV exports we meet (pandas, Trino, MySQL/ClickHouse `\N`).
 inline bool is_null_token(std::string_view s) noexcept {
   switch (s.size()) {
-    case 0: return true;
-    case 2: return s == "\\N";
-    case 3: return s == "NaN" || s == "nan" || s == "NAN";
-    case 4: return s == "null" || s == "NULL" || s == "Null" || s == "None";
-    default: return false;
+    case 0:
+      return true;
+    case 2:
+      return s == "\\N";
+    case 3:
+      return s == "NaN" || s == "nan" || s == "NAN";
+    case 4:
+      return s == "null" || s == "NULL" || s == "Null" || s == "None";
+    default:
+      return false;
   }
 }
 
@@ -115,7 +120,8 @@ enum class Num { ok, null, bad };
 /// tokens give Num::null; trailing garbage, inf and nan give Num::bad.
 template <class T>
 inline Num parse_number(std::string_view s, T& out) noexcept {
-  if (!s.empty() && (s.front() == ' ' || s.back() == ' ' || s.front() == '\t' || s.back() == '\r')) s = trim(s);
+  if (!s.empty() && (s.front() == ' ' || s.back() == ' ' || s.front() == '\t' || s.back() == '\r'))
+    s = trim(s);
   if (is_null_token(s)) return Num::null;
   if (s.front() == '+') s.remove_prefix(1);
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
@@ -159,7 +165,7 @@ struct So6Segment {
   double t_begin = 0, t_end = 0;        // Unix seconds
   double lat_begin = 0, lon_begin = 0;  // degrees (the file has decimal minutes)
   double lat_end = 0, lon_end = 0;
-  float alt_begin = 0, alt_end = 0;     // metres (the file has flight levels)
+  float alt_begin = 0, alt_end = 0;  // metres (the file has flight levels)
 };
 
 /// Parses one SO6 line (20 fields separated by blanks). Returns nullptr and fills `seg`, or returns a
@@ -170,6 +176,9 @@ const char* parse_so6_line(std::string_view line, So6Segment& seg) noexcept;
 // --- the per-ingest context -------------------------------------------------------------------------------
 
 struct ReadContext {
+  ReadContext(ByteSource& s, TrailSetBuilder& b, IngestReport& r, const IngestOptions& o)
+      : src(s), builder(b), report(r), opts(o), gap_seconds(o.gap_seconds) {}
+
   ByteSource& src;
   TrailSetBuilder& builder;
   IngestReport& report;
@@ -192,7 +201,8 @@ struct ReadContext {
   template <class F>
   void reject(std::size_t line, F&& reason) {
     ++report.rejected;
-    if (report.rejects.size() < limits::kMaxReportedRejects) report.rejects.push_back({line, std::string(reason())});
+    if (report.rejects.size() < limits::kMaxReportedRejects)
+      report.rejects.push_back({line, std::string(reason())});
   }
   /// Normalises and validates `s`; adds it to the builder, or records the reject. Returns whether added.
   bool accept(std::size_t line, std::string_view icao24, std::string_view callsign, Sample& s) {
@@ -222,8 +232,8 @@ void read_so6(ReadContext& ctx);
 void read_readsb_trace(ReadContext& ctx);
 
 /// Conversion factors to SI.
-inline constexpr double kFeet = 0.3048;                 // ft → m
-inline constexpr double kKnot = 1852.0 / 3600.0;        // kt → m/s
-inline constexpr double kFeetPerMinute = 0.3048 / 60.0; // ft/min → m/s
+inline constexpr double kFeet = 0.3048;                  // ft → m
+inline constexpr double kKnot = 1852.0 / 3600.0;         // kt → m/s
+inline constexpr double kFeetPerMinute = 0.3048 / 60.0;  // ft/min → m/s
 
 }  // namespace trailscope::ingest::detail

@@ -28,7 +28,8 @@ constexpr const char* kSupported =
     "trace); each plain or gzip-compressed";
 
 [[noreturn]] void unsupported(const std::string& seen) {
-  throw Error(Error::Kind::unsupported_format, "format", "not a supported trail file: " + seen + "; " + kSupported);
+  throw Error(Error::Kind::unsupported_format, "format",
+              "not a supported trail file: " + seen + "; " + kSupported);
 }
 
 bool starts_with(std::string_view s, std::string_view prefix) {
@@ -43,7 +44,10 @@ const char* binary_kind(std::string_view h) {
   if (starts_with(h, "GIF87a"sv) || starts_with(h, "GIF89a"sv)) return "a GIF image";
   if (starts_with(h, "PK\x03\x04"sv)) return "a ZIP archive";
   if (starts_with(h, "7z\xbc\xaf\x27\x1c"sv)) return "a 7-Zip archive";
-  if (starts_with(h, "\xfd" "7zXZ\x00"sv)) return "xz-compressed data";
+  if (starts_with(h,
+                  "\xfd"
+                  "7zXZ\x00"sv))
+    return "xz-compressed data";
   if (starts_with(h, "\x28\xb5\x2f\xfd"sv)) return "zstd-compressed data";
   if (h.size() >= 4 && starts_with(h, "BZh"sv) && h[3] >= '1' && h[3] <= '9') return "bzip2-compressed data";
   if (starts_with(h, "\x1f\x8b"sv)) return "gzip data inside gzip (compressed twice)";
@@ -111,8 +115,10 @@ class KeySniffer : public nlohmann::json_sax<nlohmann::json> {
     return true;
   }
   bool start_array(std::size_t) override {
-    if (depth_ == 0) top_seen = true, top_is_array = true;
-    else if (depth_ == 1 && top_is_array && record_depth_ == 0) return false;  // first element not an object
+    if (depth_ == 0)
+      top_seen = true, top_is_array = true;
+    else if (depth_ == 1 && top_is_array && record_depth_ == 0)
+      return false;  // first element not an object
     ++depth_;
     return true;
   }
@@ -120,7 +126,9 @@ class KeySniffer : public nlohmann::json_sax<nlohmann::json> {
     --depth_;
     return depth_ != 0;
   }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;
+  }
 
  private:
   // A scalar as the first element of a top-level array means "not records".
@@ -129,9 +137,8 @@ class KeySniffer : public nlohmann::json_sax<nlohmann::json> {
 };
 
 bool has_all(const std::vector<std::string>& keys, std::initializer_list<const char*> wanted) {
-  return std::all_of(wanted.begin(), wanted.end(), [&](const char* w) {
-    return std::find(keys.begin(), keys.end(), w) != keys.end();
-  });
+  return std::all_of(wanted.begin(), wanted.end(),
+                     [&](const char* w) { return std::find(keys.begin(), keys.end(), w) != keys.end(); });
 }
 
 std::string join(const std::vector<std::string>& v, std::size_t max = 12) {
@@ -149,8 +156,9 @@ Format detect_json(std::string_view text) {
   if (!sniffer.first_is_object)
     unsupported(sniffer.top_is_array ? "a JSON array that is empty or whose first element is not an object"
                                      : "JSON that is neither an array of records nor an object");
-  unsupported("JSON whose first record has the keys [" + join(sniffer.keys) +
-              "] (traffic_json needs timestamp, icao24, latitude, longitude; readsb_trace needs icao, trace)");
+  unsupported(
+      "JSON whose first record has the keys [" + join(sniffer.keys) +
+      "] (traffic_json needs timestamp, icao24, latitude, longitude; readsb_trace needs icao, trace)");
 }
 
 }  // namespace
@@ -185,8 +193,8 @@ Format detect_format(std::string_view head) {
     for (const char* need : {"time", "icao24", "lat", "lon"})
       if (std::find(names.begin(), names.end(), need) == names.end()) missing.emplace_back(need);
     if (missing.empty()) return Format::opensky_csv;
-    unsupported("a CSV header " + detail::quote(line, 80) + " without the OpenSky column(s) " + join(missing) +
-                " (opensky_csv needs time, icao24, lat, lon)");
+    unsupported("a CSV header " + detail::quote(line, 80) + " without the OpenSky column(s) " +
+                join(missing) + " (opensky_csv needs time, icao24, lat, lon)");
   }
   detail::So6Segment seg;
   const char* why = detail::parse_so6_line(line, seg);

@@ -13,27 +13,42 @@ namespace trailscope::ingest {
 nlohmann::json IngestReport::to_json() const {
   nlohmann::json list = nlohmann::json::array();
   for (const Reject& r : rejects) list.push_back({{"line", r.line}, {"reason", r.reason}});
-  return {{"format", to_string(format)}, {"rows", rows},         {"accepted", accepted},
-          {"rejected", rejected},        {"duplicates", duplicates}, {"flights", flights},
-          {"points", points},            {"rejects", std::move(list)}, {"seconds", seconds}};
+  return {{"format", to_string(format)},
+          {"rows", rows},
+          {"accepted", accepted},
+          {"rejected", rejected},
+          {"duplicates", duplicates},
+          {"flights", flights},
+          {"points", points},
+          {"rejects", std::move(list)},
+          {"seconds", seconds}};
 }
 
 TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestReport* report) {
   const auto start = std::chrono::steady_clock::now();
   if (!(opts.gap_seconds > 0))
-    throw invalid_argument("gap_seconds", "gap_seconds must be > 0 (seconds), got " + std::to_string(opts.gap_seconds));
+    throw invalid_argument("gap_seconds",
+                           "gap_seconds must be > 0 (seconds), got " + std::to_string(opts.gap_seconds));
   if (opts.cancel) opts.cancel->throw_if_cancelled();
 
   detail::ByteSource src(path);
   IngestReport rep;
   rep.format = opts.format ? *opts.format : detect_format(src.head());
   TrailSetBuilder builder;
-  detail::ReadContext ctx{src, builder, rep, opts, opts.gap_seconds};
+  detail::ReadContext ctx(src, builder, rep, opts);
   switch (rep.format) {
-    case Format::opensky_csv: detail::read_opensky_csv(ctx); break;
-    case Format::traffic_json: detail::read_traffic_json(ctx); break;
-    case Format::so6: detail::read_so6(ctx); break;
-    case Format::readsb_trace: detail::read_readsb_trace(ctx); break;
+    case Format::opensky_csv:
+      detail::read_opensky_csv(ctx);
+      break;
+    case Format::traffic_json:
+      detail::read_traffic_json(ctx);
+      break;
+    case Format::so6:
+      detail::read_so6(ctx);
+      break;
+    case Format::readsb_trace:
+      detail::read_readsb_trace(ctx);
+      break;
   }
   if (opts.cancel) opts.cancel->throw_if_cancelled();
   if (opts.progress) opts.progress(1.0, "parse");

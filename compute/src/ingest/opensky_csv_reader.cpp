@@ -23,8 +23,8 @@ enum Role : std::uint8_t {
   kRoles,
   kIgnore = 255,
 };
-constexpr const char* kRoleNames[kRoles] = {"time",     "icao24",   "lat",      "lon",
-                                            "velocity", "heading",  "vertrate", "callsign",
+constexpr const char* kRoleNames[kRoles] = {"time",     "icao24",       "lat",        "lon",
+                                            "velocity", "heading",      "vertrate",   "callsign",
                                             "onground", "baroaltitude", "geoaltitude"};
 
 // true/false as Trino, pandas (True/False) and ClickHouse (1/0) write them; unknown → airborne.
@@ -43,7 +43,8 @@ Bool parse_bool(std::string_view s) {
     case 5:
       if (s == "false" || s == "False" || s == "FALSE") return Bool::no;
       return Bool::bad;
-    default: return Bool::bad;
+    default:
+      return Bool::bad;
   }
 }
 
@@ -96,8 +97,8 @@ void read_opensky_csv(ReadContext& ctx) {
       if (!seen[r]) missing += std::string(missing.empty() ? "" : ", ") + kRoleNames[r];
     if (!missing.empty())
       throw Error(Error::Kind::unsupported_format, "format",
-                  "not an OpenSky state_vectors_data4 CSV: the header " + quote(line, 80) + " lacks " + missing +
-                      " (needs time, icao24, lat, lon)");
+                  "not an OpenSky state_vectors_data4 CSV: the header " + quote(line, 80) + " lacks " +
+                      missing + " (needs time, icao24, lat, lon)");
   }
   const std::size_t ncols = names.size();
   const std::uint8_t* role = roles.data();
@@ -151,8 +152,10 @@ void read_opensky_csv(ReadContext& ctx) {
 
     Sample s;
     if (const Num n = parse_number(f[kTime], s.t); n != Num::ok) {
-      if (n == Num::null) ctx.reject(line_no, [] { return "time missing"; });
-      else ctx.reject(line_no, [&] { return bad_number(kTime, f[kTime]); });
+      if (n == Num::null)
+        ctx.reject(line_no, [] { return "time missing"; });
+      else
+        ctx.reject(line_no, [&] { return bad_number(kTime, f[kTime]); });
       continue;
     }
     const std::string_view icao = trim(f[kIcao24]);
@@ -182,10 +185,18 @@ void read_opensky_csv(ReadContext& ctx) {
       }
       if (n == Num::null) continue;
       switch (r) {
-        case kVelocity: s.speed = v; break;
-        case kHeading: s.track = v; break;
-        case kVertrate: s.vrate = v; break;
-        default: s.alt = v; break;
+        case kVelocity:
+          s.speed = v;
+          break;
+        case kHeading:
+          s.track = v;
+          break;
+        case kVertrate:
+          s.vrate = v;
+          break;
+        default:
+          s.alt = v;
+          break;
       }
     }
     if (!ok) continue;

@@ -48,8 +48,9 @@ class Sink {
 
  private:
   [[noreturn]] void fail(const char* what) {
-    throw Error(Error::Kind::internal, "path",
-                std::string("cannot ") + what + " '" + path_ + "': " + std::generic_category().message(errno));
+    throw Error(
+        Error::Kind::internal, "path",
+        std::string("cannot ") + what + " '" + path_ + "': " + std::generic_category().message(errno));
   }
   std::string path_;
   bool gzip_;
@@ -84,7 +85,15 @@ void write_opensky_csv(const TrailSet& set, const std::string& path, bool gzip) 
     out += '\n';
     const PointColumns& p = set.points();
     char tbuf[32];
+    std::string callsign;
     for (const Flight& f : flights) {
+      // Callsigns are A-Z0-9 in practice; quote anything that would break the row.
+      callsign = f.callsign;
+      if (callsign.find_first_of(",\"\n") != std::string::npos) {
+        std::string q = "\"";
+        for (char c : callsign) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+        callsign = q + "\"";
+      }
       for (std::uint32_t i = f.begin; i < f.end; ++i) {
         const auto tr = std::to_chars(tbuf, tbuf + sizeof tbuf, p.t[i]);
         const std::string_view time(tbuf, tr.ptr - tbuf);
@@ -102,7 +111,7 @@ void write_opensky_csv(const TrailSet& set, const std::string& path, bool gzip) 
         out += ',';
         put_number(out, p.vrate[i]);
         out += ',';
-        out += f.callsign;
+        out += callsign;
         out += p.on_ground[i] ? ",true,false,false,," : ",false,false,false,,";
         put_number(out, p.alt[i]);
         out += ",,";
@@ -120,7 +129,9 @@ void write_opensky_csv(const TrailSet& set, const std::string& path, bool gzip) 
     sink.close();
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
-    if (ec) throw Error(Error::Kind::internal, "path", "cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
+    if (ec)
+      throw Error(Error::Kind::internal, "path",
+                  "cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
   } catch (...) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);

@@ -13,7 +13,20 @@ namespace {
 using json = nlohmann::json;
 
 // Row layout (readsb README-json.md, "trace" arrays).
-enum : std::size_t { kDt = 0, kLat, kLon, kAlt, kGs, kTrack, kFlags, kRate, kDetails, kSource, kGeomAlt, kGeomRate };
+enum : std::size_t {
+  kDt = 0,
+  kLat,
+  kLon,
+  kAlt,
+  kGs,
+  kTrack,
+  kFlags,
+  kRate,
+  kDetails,
+  kSource,
+  kGeomAlt,
+  kGeomRate
+};
 
 const json& at(const json& row, std::size_t i) {
   static const json null_value;

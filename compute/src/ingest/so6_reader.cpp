@@ -23,7 +23,8 @@ bool two_digits(const char* p, int& v) {
 // hhmmss → seconds of the day.
 bool parse_hhmmss(std::string_view s, int& sec) {
   int h, m, x;
-  if (s.size() != 6 || !two_digits(s.data(), h) || !two_digits(s.data() + 2, m) || !two_digits(s.data() + 4, x))
+  if (s.size() != 6 || !two_digits(s.data(), h) || !two_digits(s.data() + 2, m) ||
+      !two_digits(s.data() + 4, x))
     return false;
   if (h > 23 || m > 59 || x > 59) return false;
   sec = h * 3600 + m * 60 + x;
@@ -33,7 +34,8 @@ bool parse_hhmmss(std::string_view s, int& sec) {
 // yymmdd → days since 1970-01-01 (yy < 70 → 20yy: SO6 dates from the 1990s on, and Unix time starts 1970).
 bool parse_yymmdd(std::string_view s, std::int64_t& days) {
   int y, m, d;
-  if (s.size() != 6 || !two_digits(s.data(), y) || !two_digits(s.data() + 2, m) || !two_digits(s.data() + 4, d))
+  if (s.size() != 6 || !two_digits(s.data(), y) || !two_digits(s.data() + 2, m) ||
+      !two_digits(s.data() + 4, d))
     return false;
   if (m < 1 || m > 12 || d < 1 || d > 31) return false;
   days = days_from_civil(y < 70 ? 2000 + y : 1900 + y, static_cast<unsigned>(m), static_cast<unsigned>(d));
@@ -120,7 +122,9 @@ void read_so6(ReadContext& ctx) {
       const char* why_a = check_sample(a);
       const char* why_b = check_sample(b);
       if (why_a || why_b) {
-        ctx.reject(line_no, [&] { return std::string(why_a ? "segment begin: " : "segment end: ") + (why_a ? why_a : why_b); });
+        ctx.reject(line_no, [&] {
+          return std::string(why_a ? "segment begin: " : "segment end: ") + (why_a ? why_a : why_b);
+        });
         continue;
       }
       ++ctx.report.accepted;
@@ -173,6 +177,10 @@ void read_so6(ReadContext& ctx) {
         s.speed = static_cast<float>(dist / dt);
         s.track = dist > 1.0 ? static_cast<float>(last ? azi2 : azi1) : kNaN;
         s.vrate = static_cast<float>((b.alt - a.alt) / dt);
+        // A leg faster than any aircraft comes from a glitch in the source (a one-point position spike,
+        // a clock wrapping at midnight): keep the positions, but leave the derived values unknown.
+        if (s.speed > kMaxSpeed) s.speed = s.track = kNaN;
+        if (std::fabs(s.vrate) > kMaxVerticalRate) s.vrate = kNaN;
       }
       normalise_sample(s);
       ctx.builder.add("", slot, s);

@@ -13,12 +13,27 @@ namespace {
 
 using json = nlohmann::json;
 
-enum class Field { none, timestamp, icao24, callsign, latitude, longitude, altitude, geoaltitude, groundspeed, track, vertical_rate, onground };
+enum class Field {
+  none,
+  timestamp,
+  icao24,
+  callsign,
+  latitude,
+  longitude,
+  altitude,
+  geoaltitude,
+  groundspeed,
+  track,
+  vertical_rate,
+  onground
+};
 
 Field field_of(const std::string& k) {
   switch (k.size()) {
-    case 5: return k == "track" ? Field::track : Field::none;
-    case 6: return k == "icao24" ? Field::icao24 : Field::none;
+    case 5:
+      return k == "track" ? Field::track : Field::none;
+    case 6:
+      return k == "icao24" ? Field::icao24 : Field::none;
     case 8:
       if (k == "latitude") return Field::latitude;
       if (k == "altitude") return Field::altitude;
@@ -33,19 +48,24 @@ Field field_of(const std::string& k) {
       if (k == "groundspeed") return Field::groundspeed;
       if (k == "geoaltitude") return Field::geoaltitude;
       return Field::none;
-    case 13: return k == "vertical_rate" ? Field::vertical_rate : Field::none;
-    default: return Field::none;
+    case 13:
+      return k == "vertical_rate" ? Field::vertical_rate : Field::none;
+    default:
+      return Field::none;
   }
 }
 
 const char* field_name(Field f) {
-  constexpr const char* names[] = {"",         "timestamp",   "icao24",      "callsign", "latitude", "longitude",
-                                   "altitude", "geoaltitude", "groundspeed", "track",    "vertical_rate", "onground"};
+  constexpr const char* names[] = {
+      "",         "timestamp",   "icao24",      "callsign", "latitude",      "longitude",
+      "altitude", "geoaltitude", "groundspeed", "track",    "vertical_rate", "onground"};
   return names[static_cast<int>(f)];
 }
 
 // Unix milliseconds (pandas' default) or seconds: no real trail is from 1973, when ms pass 1e11.
-double epoch_seconds(double v) { return std::fabs(v) >= 1e11 ? v / 1000.0 : v; }
+double epoch_seconds(double v) {
+  return std::fabs(v) >= 1e11 ? v / 1000.0 : v;
+}
 
 class RecordSax : public json::json_sax_t {
  public:
@@ -90,39 +110,56 @@ class RecordSax : public json::json_sax_t {
   }
   bool boolean(bool v) override {
     if (at_value()) {
-      if (field_ == Field::onground) onground_ = v;
-      else if (field_ != Field::none && field_ != Field::callsign) bad_value();
+      if (field_ == Field::onground)
+        onground_ = v;
+      else if (field_ != Field::none && field_ != Field::callsign)
+        bad_value();
     } else if (at_element()) {
       not_a_record();
     }
     return true;
   }
-  bool number_integer(number_integer_t v) override { return number(static_cast<double>(v), v >= 0, static_cast<std::uint64_t>(v)); }
+  bool number_integer(number_integer_t v) override {
+    return number(static_cast<double>(v), v >= 0, static_cast<std::uint64_t>(v));
+  }
   bool number_unsigned(number_unsigned_t v) override { return number(static_cast<double>(v), true, v); }
   bool number_float(number_float_t v, const string_t&) override { return number(v, false, 0); }
   bool string(string_t& v) override {
     if (at_value()) {
       switch (field_) {
-        case Field::none: break;
-        case Field::icao24: icao_.assign(v); break;
-        case Field::callsign: callsign_.assign(v); break;
+        case Field::none:
+          break;
+        case Field::icao24:
+          icao_.assign(v);
+          break;
+        case Field::callsign:
+          callsign_.assign(v);
+          break;
         case Field::timestamp: {
           double t;
-          if (parse_iso8601(v, t)) has_time_ = true, t_ = t;
-          else if (parse_number(std::string_view(v), t) == Num::ok) has_time_ = true, t_ = epoch_seconds(t);
-          else if (!is_null_token(trim(v))) bad_value(v);
+          if (parse_iso8601(v, t))
+            has_time_ = true, t_ = t;
+          else if (parse_number(std::string_view(v), t) == Num::ok)
+            has_time_ = true, t_ = epoch_seconds(t);
+          else if (!is_null_token(trim(v)))
+            bad_value(v);
           break;
         }
         case Field::onground:
-          if (v == "true" || v == "True") onground_ = true;
-          else if (v == "false" || v == "False" || v.empty()) onground_ = false;
-          else bad_value(v);
+          if (v == "true" || v == "True")
+            onground_ = true;
+          else if (v == "false" || v == "False" || v.empty())
+            onground_ = false;
+          else
+            bad_value(v);
           break;
         default: {  // a number written as a string
           double d;
           const Num n = parse_number(std::string_view(v), d);
-          if (n == Num::ok) set_number(d);
-          else if (n == Num::bad) bad_value(v);
+          if (n == Num::ok)
+            set_number(d);
+          else if (n == Num::bad)
+            bad_value(v);
         }
       }
     } else if (at_element()) {
@@ -132,8 +169,10 @@ class RecordSax : public json::json_sax_t {
   }
   bool binary(binary_t&) override { return true; }
   bool start_object(std::size_t) override {
-    if (depth_ == record_depth_ - 1) begin_record();
-    else if (at_value()) bad_value();
+    if (depth_ == record_depth_ - 1)
+      begin_record();
+    else if (at_value())
+      bad_value();
     ++depth_;
     return true;
   }
@@ -146,8 +185,10 @@ class RecordSax : public json::json_sax_t {
     return true;
   }
   bool start_array(std::size_t) override {
-    if (depth_ == record_depth_ - 1) not_a_record();
-    else if (at_value()) bad_value();
+    if (depth_ == record_depth_ - 1)
+      not_a_record();
+    else if (at_value())
+      bad_value();
     ++depth_;
     return true;
   }
@@ -180,8 +221,10 @@ class RecordSax : public json::json_sax_t {
       } else if (field_ == Field::onground) {
         onground_ = d != 0;
       } else if (field_ == Field::callsign) {
-        if (non_negative_integer) callsign_ = std::to_string(u);
-        else bad_value();
+        if (non_negative_integer)
+          callsign_ = std::to_string(u);
+        else
+          bad_value();
       } else {
         set_number(d);
       }
@@ -192,20 +235,38 @@ class RecordSax : public json::json_sax_t {
   }
   void set_number(double d) {
     switch (field_) {
-      case Field::timestamp: has_time_ = true, t_ = epoch_seconds(d); break;
-      case Field::latitude: lat_ = d, has_lat_ = true; break;
-      case Field::longitude: lon_ = d, has_lon_ = true; break;
-      case Field::altitude: alt_ = d; break;
-      case Field::geoaltitude: geoalt_ = d; break;
-      case Field::groundspeed: gs_ = d; break;
-      case Field::track: track_ = d; break;
-      case Field::vertical_rate: vrate_ = d; break;
-      default: break;
+      case Field::timestamp:
+        has_time_ = true, t_ = epoch_seconds(d);
+        break;
+      case Field::latitude:
+        lat_ = d, has_lat_ = true;
+        break;
+      case Field::longitude:
+        lon_ = d, has_lon_ = true;
+        break;
+      case Field::altitude:
+        alt_ = d;
+        break;
+      case Field::geoaltitude:
+        geoalt_ = d;
+        break;
+      case Field::groundspeed:
+        gs_ = d;
+        break;
+      case Field::track:
+        track_ = d;
+        break;
+      case Field::vertical_rate:
+        vrate_ = d;
+        break;
+      default:
+        break;
     }
   }
   void bad_value(std::string_view v = {}) {
     if (problem_.empty())
-      problem_ = std::string("bad value for '") + field_name(field_) + "'" + (v.empty() ? "" : ": " + quote(v));
+      problem_ =
+          std::string("bad value for '") + field_name(field_) + "'" + (v.empty() ? "" : ": " + quote(v));
   }
   void not_a_record() {
     if (deferred_) {
@@ -242,7 +303,8 @@ class RecordSax : public json::json_sax_t {
     if (icao.empty()) return ctx_.reject(index, [] { return "icao24 missing"; });
     if (!is_icao24(icao))
       return ctx_.reject(index, [&] { return "bad icao24 " + quote(icao) + " (expected 6 hex digits)"; });
-    if (!has_lat_ || !has_lon_) return ctx_.reject(index, [] { return "missing position (latitude/longitude)"; });
+    if (!has_lat_ || !has_lon_)
+      return ctx_.reject(index, [] { return "missing position (latitude/longitude)"; });
     Sample s;
     s.t = t_;
     s.lat = static_cast<float>(lat_), s.lon = static_cast<float>(lon_);

@@ -7,7 +7,7 @@
 #include <mutex>
 
 #include "ocl/dispatch.hpp"
-#include "ocl/embedded_kernels.hpp"
+#include "ocl/ops.hpp"
 #include "trailscope/core/error.hpp"
 #ifdef TRAILSCOPE_HAVE_OPENCL
 #include "ocl/runtime.hpp"
@@ -52,11 +52,7 @@ bool opencl_available() { return ocl::available(); }
 
 void opencl_warm_up() {
 #ifdef TRAILSCOPE_HAVE_OPENCL
-  for (const auto& k : ocl::embedded_kernels()) {
-    // Each op builds its kernel with the option sets it uses; "" is the common one. Ops with variants
-    // (density_lines: -DWITH_VALUE) get them built on first use, from PoCL's disk cache when warm.
-    ocl::program(k.name);
-  }
+  for (const auto& [name, options] : ocl::kernel_variants()) ocl::program(name, options);
 #else
   throw Error(Error::Kind::backend, "backend", "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)");
 #endif

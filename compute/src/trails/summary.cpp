@@ -19,6 +19,7 @@ namespace {
 constexpr double kFeet = 0.3048;
 constexpr double kSpeedBin = 0.25;  // m/s; percentiles are read from this histogram
 constexpr int kSpeedBins = 2400;    // up to 600 m/s; faster samples land in the last bin
+constexpr double kAltEdgeNudge = 1e-4;  // of an altitude bin
 
 // Smallest "nice" bin width (seconds) giving at most `bins` bins over `span`.
 double nice_bin_seconds(double span, int bins) {
@@ -103,7 +104,9 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
             ++acc.time[std::min(tb, time_bins - 1)];
             const float a = pts.alt[i];
             if (a == a) {
-              const double ab = std::max(0.0, a / alt_unit / alt_bin_w);
+              // Altitudes are float metres; one converted from a round flight level (FL100 = 3048 m) must
+              // land in the bin that starts at it, not a hair below, hence the 0.1 ft / 0.03 m nudge.
+              const double ab = std::max(0.0, a / alt_unit / alt_bin_w + kAltEdgeNudge);
               ++acc.alt[std::min(static_cast<std::size_t>(ab), alt_bins - 1)];
             }
             const float v = pts.speed[i];

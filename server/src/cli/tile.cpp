@@ -5,7 +5,7 @@
 #include "store/embedded_store.hpp"
 #include "trailscope/core/backend.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/density/density_renderer.hpp"
+#include "trailscope/density/renderer.hpp"
 
 namespace trailscope::cli {
 
@@ -36,16 +36,16 @@ void add_tile(CLI::App& app) {
     server::EmbeddedStore store(o->data_dir);
     const auto ds = store.get(o->dataset);
     const Query q = parse_query(o->flags.params);
-    TileRequest req;
-    req.tile = make_tile_id(o->z, o->x, o->y);
+    density::TileRequest req;
+    req.tile = geo::TileId{o->z, o->x, o->y};
     req.size = o->size;
-    req.value = parse_density_value(o->value, "value");
-    req.how = parse_how(o->how, "how");
+    req.value = density::parse_density_value(o->value, "value");
+    req.how = density::parse_how(o->how, "how");
     req.cmap = o->cmap;
     req.kernel_radius = o->kernel;
     req.backend = o->backend.empty() ? default_backend() : parse_backend(o->backend, "backend");
-    DensityRenderer renderer;
-    const TileResult r = renderer.render_tile(*ds->trails, ds->id + "@" + ds->created, q, req);
+    density::DensityRenderer renderer;
+    const density::TileResult r = renderer.render_tile(*ds->trails, ds->id + "@" + ds->created, q, req);
     std::ofstream out(o->out, std::ios::binary);
     out.write(r.png.data(), static_cast<std::streamsize>(r.png.size()));
     if (!out) throw Error(Error::Kind::internal, "output", "cannot write " + o->out);

@@ -43,11 +43,15 @@ JobState JobManager::submit(std::string kind, std::string dataset, Work work) {
     job->state.dataset = std::move(dataset);
     job->work = std::move(work);
     jobs_[job->state.id] = job;
-    queue_.push_back(job);
     s = job->state;
   }
-  cv_.notify_all();
+  // Announce "queued" before a worker can see the job, so listeners never get "running" first.
   notify(s);
+  {
+    std::lock_guard lock(mu_);
+    queue_.push_back(job);
+  }
+  cv_.notify_all();
   return s;
 }
 

@@ -9,7 +9,7 @@
 #include "routes/router.hpp"
 #include "store/dataset_store.hpp"
 #include "store/tile_cache.hpp"
-#include "trailscope/density/density_renderer.hpp"
+#include "trailscope/density/renderer.hpp"
 
 namespace trailscope::server {
 
@@ -19,7 +19,7 @@ struct App {
   std::filesystem::path web_root;     ///< built browser app (web/dist); empty = none
   JobManager jobs{1};
   TileCache tiles;
-  DensityRenderer density;
+  density::DensityRenderer density;
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes);

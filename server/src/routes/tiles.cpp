@@ -29,15 +29,15 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
   const Query q = parse_query(req.query);
   const int z = static_cast<int>(params::path_integer(p, "z", limits::kMinZoom, limits::kMaxZoom));
   const std::int64_t n = std::int64_t{1} << z;
-  TileRequest t;
-  t.tile = make_tile_id(z, static_cast<int>(params::path_integer(p, "x", 0, n - 1)),
-                        static_cast<int>(params::path_integer(p, "y", 0, n - 1)));
+  density::TileRequest t;
+  t.tile = geo::TileId{z, static_cast<int>(params::path_integer(p, "x", 0, n - 1)),
+                       static_cast<int>(params::path_integer(p, "y", 0, n - 1))};
   t.size = static_cast<int>(params::integer(req, "size", limits::kTileSizeSmall, limits::kTileSizeSmall, limits::kTileSizeLarge));
   if (t.size != limits::kTileSizeSmall && t.size != limits::kTileSizeLarge)
     throw invalid_argument("size", "size must be 256 or 512");
   const std::string value = param_or(req, "value", "count"), how = param_or(req, "how", "eq_hist");
-  t.value = parse_density_value(value, "value");
-  t.how = parse_how(how, "how");
+  t.value = density::parse_density_value(value, "value");
+  t.how = density::parse_how(how, "how");
   t.cmap = param_or(req, "cmap", "fire");
   t.kernel_radius = static_cast<int>(params::integer(req, "kernel", 0, 0, limits::kMaxKernelRadiusPx));
 
@@ -46,6 +46,7 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
   const std::string key = dataset_key + "/" + std::to_string(z) + "/" + p.at("x") + "/" + p.at("y") + "?" +
                           q.canonical() + "&value=" + value + "&how=" + how + "&cmap=" + t.cmap +
                           "&size=" + std::to_string(t.size) + "&kernel=" + std::to_string(t.kernel_radius);
+  density::validate(t);  // before the ETag check: a malformed request never gets a 304
   const std::string etag = etag_of(key);
   const auto with_headers = [&](Response r) {
     r.headers.emplace_back("ETag", etag);
@@ -56,8 +57,7 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
   if (req.header("if-none-match") == etag) return with_headers(Response{304, "", "", {}});
   auto bytes = app.tiles.get(key);
   if (!bytes) {
-    validate_cmap(t.cmap, "cmap");
-    TileResult r = app.density.render_tile(*ds->trails, dataset_key, q, t);
+    density::TileResult r = app.density.render_tile(*ds->trails, dataset_key, q, t);
     bytes = std::make_shared<const std::string>(std::move(r.png));
     app.tiles.put(key, bytes);
   }

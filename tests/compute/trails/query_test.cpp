@@ -97,7 +97,8 @@ TEST(Builder, SortsDedupsAndSplits) {
   EXPECT_EQ(t.flights()[1].icao24, "def456");  // ordered by start time
   EXPECT_EQ(t.flights()[2].size(), 1u);
   EXPECT_EQ(t.points().lat[t.flights()[0].begin + 1], 2.0f);
-  EXPECT_DOUBLE_EQ(t.t_min(), 10), EXPECT_DOUBLE_EQ(t.t_max(), 5000);
+  EXPECT_DOUBLE_EQ(t.t_min(), 10);
+  EXPECT_DOUBLE_EQ(t.t_max(), 5000);
 }
 
 TEST(Summary, HistogramsAndSpeedOnKnownData) {

@@ -9,6 +9,7 @@ import {
   normalizeIcao24,
   parseFilters,
   parseRender,
+  validateFilters,
   type Filters,
 } from './query';
 
@@ -104,5 +105,21 @@ describe('datasetNameFromFile', () => {
     expect(datasetNameFromFile('C:\\data\\My Flights (2).CSV')).toBe('my-flights-2');
     expect(datasetNameFromFile('...json')).toBe('dataset');
     expect(datasetNameFromFile(`${'a'.repeat(70)}.csv`)).toHaveLength(64);
+  });
+});
+
+describe('validateFilters', () => {
+  it('accepts empty and sensible filters', () => {
+    expect(validateFilters(f({}))).toBeNull();
+    expect(validateFilters(f({ altMin: 0, altMax: 0, t0: 1, t1: 2, icao24: '4CA7B5, a1b2c3' }))).toBeNull();
+  });
+
+  it('names the parameter of an impossible band, window or address', () => {
+    expect(validateFilters(f({ altMin: 40000, altMax: 20000 }))?.param).toBe('alt_min');
+    expect(validateFilters(f({ t0: 5, t1: 5 }))?.param).toBe('t0');
+    expect(validateFilters(f({ icao24: '4ca7b5,xyz' }))).toEqual({
+      param: 'icao24',
+      detail: 'Not a 24-bit hex address: xyz (six hex digits, e.g. 4ca7b5).',
+    });
   });
 });

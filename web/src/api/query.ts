@@ -169,3 +169,24 @@ export function datasetNameFromFile(fileName: string): string {
     .replace(/-+$/, '');
   return id || 'dataset';
 }
+
+/** A filter problem found before asking the server, in the API's error shape. */
+export interface FilterProblem {
+  param: string;
+  detail: string;
+}
+
+/**
+ * Checks what the client can know for certain, so that an obviously invalid query is not sent
+ * (the server stays the authority; anything it rejects is shown the same way).
+ */
+export function validateFilters(f: Filters): FilterProblem | null {
+  if (f.t0 !== null && f.t1 !== null && f.t0 >= f.t1) return { param: 't0', detail: 'The time window ends before it starts.' };
+  if (f.altMin !== null && f.altMax !== null && f.altMin > f.altMax)
+    return { param: 'alt_min', detail: `The band's lower altitude (${f.altMin} ft) is above its upper one (${f.altMax} ft).` };
+  const bad = normalizeIcao24(f.icao24)
+    .split(',')
+    .filter((a) => a && !/^[0-9a-f]{6}$/.test(a));
+  if (bad.length > 0) return { param: 'icao24', detail: `Not a 24-bit hex address: ${bad.slice(0, 3).join(', ')} (six hex digits, e.g. 4ca7b5).` };
+  return null;
+}

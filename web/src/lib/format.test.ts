@@ -5,6 +5,7 @@ import {
   formatCompact,
   formatDuration,
   formatFlightLevel,
+  formatHoursMinutes,
   formatInt,
   formatSpeed,
   formatUtc,
@@ -53,6 +54,12 @@ describe('time', () => {
     expect(formatDuration(3 * 3600)).toBe('3 h');
     expect(formatDuration(51 * 3600)).toBe('2 d 3 h');
     expect(formatDuration(-1)).toBe('–');
+  });
+
+  it('prints h:mm for tables', () => {
+    expect(formatHoursMinutes(86 * 60)).toBe('1:26');
+    expect(formatHoursMinutes(5 * 60 + 29)).toBe('0:05');
+    expect(formatHoursMinutes(26 * 3600)).toBe('26:00');
   });
 
   it('repeats the date in a window only when it changes', () => {

@@ -56,6 +56,13 @@ export function formatDuration(seconds: number): string {
   return rh ? `${d} d ${rh} h` : `${d} d`;
 }
 
+/** Seconds → "1:26" (hours:minutes), for dense tables. */
+export function formatHoursMinutes(seconds: number): string {
+  if (!Number.isFinite(seconds) || seconds < 0) return '–';
+  const m = Math.round(seconds / 60);
+  return `${Math.floor(m / 60)}:${String(m % 60).padStart(2, '0')}`;
+}
+
 /** A half-open window [t0, t1) → "2018-01-01 06:00 → 12:00 UTC" (date repeated only when it changes). */
 export function formatWindow(t0: number, t1: number): string {
   const a = formatUtc(t0);

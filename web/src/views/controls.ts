@@ -8,8 +8,8 @@ import { debounce, h, mount } from '../lib/dom';
 import { formatCompact, formatInt, formatUtc } from '../lib/format';
 import type { ErrorSlots } from './errors';
 
-const VALUE_LABELS: Record<DensityValue, string> = { count: 'Point count', altitude: 'Mean altitude', speed: 'Mean speed' };
-const HOW_LABELS: Record<DensityHow, string> = { linear: 'Linear', log: 'Log', eq_hist: 'Histogram eq.' };
+const VALUE_LABELS: Record<DensityValue, string> = { count: 'Count', altitude: 'Altitude', speed: 'Speed' };
+const HOW_LABELS: Record<DensityHow, string> = { linear: 'Linear', log: 'Log', eq_hist: 'Eq. hist' };
 const CMAP_LABELS: Record<Colormap, string> = { fire: 'Fire', viridis: 'Viridis', inferno: 'Inferno', magma: 'Magma', gray: 'Gray' };
 
 function field(label: string, control: HTMLElement, errorId: string, hint?: string): HTMLElement {
@@ -82,7 +82,7 @@ export class Controls {
     this.callsign = h('input', {
       id: 'callsign',
       type: 'search',
-      placeholder: 'AFR, BAW1*, *123',
+      placeholder: 'AFR, BAW1*',
       autocomplete: 'off',
       spellcheck: 'false',
       'data-testid': 'callsign',
@@ -95,7 +95,7 @@ export class Controls {
     this.icao24 = h('input', {
       id: 'icao24',
       type: 'search',
-      placeholder: '4ca7b5, 3c6444',
+      placeholder: '4ca7b5',
       autocomplete: 'off',
       spellcheck: 'false',
       'data-testid': 'icao24',
@@ -108,9 +108,9 @@ export class Controls {
     this.onGround = h(
       'select',
       { id: 'on-ground', 'data-testid': 'on-ground', 'data-param': 'on_ground' },
-      h('option', { value: 'any' }, 'Airborne and on ground'),
-      h('option', { value: 'false' }, 'Airborne only'),
-      h('option', { value: 'true' }, 'On ground only'),
+      h('option', { value: 'any' }, 'All'),
+      h('option', { value: 'false' }, 'Airborne'),
+      h('option', { value: 'true' }, 'On ground'),
     );
     this.onGround.addEventListener('change', () => store.setFilters({ onGround: this.onGround.value as OnGround }));
 
@@ -130,15 +130,24 @@ export class Controls {
         h('div', { class: 'range-row', role: 'group', 'aria-labelledby': 'alt-label' }, this.altMin, h('span', { class: 'muted' }, '–'), this.altMax),
         h('div', { id: 'alt-error' }),
       ),
-      field('Callsign', this.callsign, 'callsign-error', 'prefix or * wildcard'),
-      field('ICAO24', this.icao24, 'icao24-error', 'hex, comma separated'),
-      field('Ground state', this.onGround, 'on-ground-error'),
       h(
         'div',
-        { class: 'field' },
-        h('label', { class: 'switch', for: 'use-map-view' }, this.useMapView, h('span', {}, 'Limit to map view'), h('span', { class: 'hint' }, 'bbox')),
-        this.bboxReadout,
-        h('div', { id: 'bbox-error' }),
+        { class: 'field-row' },
+        field('Callsign', this.callsign, 'callsign-error', 'prefix, *'),
+        field('ICAO24', this.icao24, 'icao24-error', 'hex list'),
+      ),
+      h(
+        'div',
+        { class: 'field-row' },
+        field('Ground state', this.onGround, 'on-ground-error'),
+        h(
+          'div',
+          { class: 'field' },
+          h('span', { class: 'field-label' }, 'Area'),
+          h('label', { class: 'switch', for: 'use-map-view' }, this.useMapView, h('span', {}, 'Map view only')),
+          this.bboxReadout,
+          h('div', { id: 'bbox-error' }),
+        ),
       ),
     );
 
@@ -230,18 +239,11 @@ export class Controls {
 
 function datasetMeta(d: Dataset): HTMLElement {
   return h(
-    'dl',
-    { class: 'kv compact' },
-    h('dt', {}, 'Format'),
-    h('dd', {}, d.format),
-    h('dt', {}, 'Flights'),
-    h('dd', {}, formatInt(d.flights)),
-    h('dt', {}, 'Points'),
-    h('dd', {}, formatInt(d.points)),
-    h('dt', {}, 'From'),
-    h('dd', {}, `${formatUtc(d.t_min)} UTC`),
-    h('dt', {}, 'To'),
-    h('dd', {}, `${formatUtc(d.t_max)} UTC`),
+    'div',
+    { title: `${formatInt(d.flights)} flights, ${formatInt(d.points)} points, ${formatUtc(d.t_min)} → ${formatUtc(d.t_max)} UTC` },
+    `${d.format} · ${formatInt(d.flights)} flights · ${formatCompact(d.points)} points`,
+    h('br'),
+    `${formatUtc(d.t_min)} → ${formatUtc(d.t_max)} UTC`,
   );
 }
 

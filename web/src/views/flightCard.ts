@@ -69,7 +69,7 @@ export class FlightCard {
       'header',
       { class: 'card-head' },
       h('span', { class: 'card-callsign mono', 'data-testid': 'card-callsign' }, callsign || '—'),
-      h('span', { class: 'card-icao mono muted', 'data-testid': 'card-icao24' }, icao24),
+      h('span', { class: 'card-icao mono muted', 'data-testid': 'card-icao24', title: 'ICAO 24-bit address' }, icao24 || 'no ICAO24'),
       h('button', { type: 'button', class: 'icon-button', 'aria-label': 'Close flight', title: 'Close (Esc)', onclick: () => this.onClose() }, '×'),
     );
   }

@@ -2,7 +2,7 @@
 
 import type { FlightPage, FlightRow } from '../api/types';
 import { h, mount } from '../lib/dom';
-import { formatDuration, formatFlightLevel, formatInt, formatUtc, formatUtcTime } from '../lib/format';
+import { formatFlightLevel, formatHoursMinutes, formatInt, formatUtc, formatUtcTime } from '../lib/format';
 
 export interface FlightListEvents {
   onPage(page: number): void;
@@ -14,6 +14,7 @@ export class FlightList {
   private readonly count: HTMLElement;
   private readonly pager: HTMLElement;
   private selected: number | null = null;
+  private multiDay = false;
 
   constructor(private readonly root: HTMLElement, private readonly events: FlightListEvents) {
     this.count = h('span', { class: 'section-meta', 'data-testid': 'flights-total', 'aria-live': 'polite' });
@@ -28,8 +29,8 @@ export class FlightList {
         h('span', {}, 'Callsign'),
         h('span', {}, 'ICAO24'),
         h('span', {}, 'Start (UTC)'),
-        h('span', { class: 'num' }, 'Dur.'),
-        h('span', { class: 'num' }, 'Max'),
+        h('span', { class: 'num', title: 'Duration (h:mm)' }, 'Dur.'),
+        h('span', { class: 'num', title: 'Highest flight level' }, 'Max'),
       ),
       this.list,
       this.pager,
@@ -56,6 +57,11 @@ export class FlightList {
     this.count.textContent = '';
     mount(this.list, h('li', { class: 'empty error-text' }, message));
     mount(this.pager);
+  }
+
+  /** Whether start times need their date (the data set spans more than one UTC day). */
+  setMultiDay(multiDay: boolean): void {
+    this.multiDay = multiDay;
   }
 
   setSelected(id: number | null): void {
@@ -93,9 +99,9 @@ export class FlightList {
         onclick: () => this.events.onSelect(f),
       },
       h('span', { class: 'mono cs' }, f.callsign || '—'),
-      h('span', { class: 'mono muted' }, f.icao24),
-      h('span', { class: 'mono' }, `${formatUtc(f.t_start).slice(5, 10)} ${formatUtcTime(f.t_start)}`),
-      h('span', { class: 'num' }, formatDuration(f.t_end - f.t_start)),
+      h('span', { class: 'mono muted' }, f.icao24 || '—'),
+      h('span', { class: 'mono' }, this.multiDay ? `${formatUtc(f.t_start).slice(5, 10)} ${formatUtcTime(f.t_start)}` : formatUtcTime(f.t_start)),
+      h('span', { class: 'num' }, formatHoursMinutes(f.t_end - f.t_start)),
       h('span', { class: 'num' }, formatFlightLevel(f.alt_max_m)),
     );
   }

@@ -13,10 +13,10 @@ export interface JobsEvents {
 }
 
 const FORMATS: { value: '' | DatasetFormat; label: string }[] = [
-  { value: '', label: 'Auto-detect' },
+  { value: '', label: 'Auto' },
   { value: 'opensky_csv', label: 'OpenSky CSV' },
   { value: 'traffic_json', label: 'traffic JSON' },
-  { value: 'so6', label: 'SO6 (m3)' },
+  { value: 'so6', label: 'SO6' },
   { value: 'readsb_trace', label: 'readsb trace' },
 ];
 
@@ -56,7 +56,8 @@ export class JobsView {
     this.name = h('input', {
       id: 'upload-name',
       type: 'text',
-      placeholder: 'name (from the file name)',
+      placeholder: 'name',
+      title: 'Name of the new data set (a-z 0-9 _ -); empty: from the file name',
       pattern: '[a-z0-9_\\-]{1,64}',
       autocomplete: 'off',
       spellcheck: 'false',
@@ -69,10 +70,10 @@ export class JobsView {
       h(
         'div',
         { class: 'upload-row' },
-        h('label', { class: 'btn', for: 'upload-file', title: 'SO6, OpenSky CSV, traffic JSON or a readsb trace; plain or gzip' }, 'Upload data set…', this.fileInput),
+        h('label', { class: 'btn', for: 'upload-file', title: 'SO6, OpenSky CSV, traffic JSON or a readsb trace; plain or gzip' }, 'Upload…', this.fileInput),
         this.format,
+        this.name,
       ),
-      h('div', { class: 'upload-name' }, this.name),
       h('div', { id: 'upload-error' }),
       this.list,
     );
@@ -86,6 +87,9 @@ export class JobsView {
 
   /** A job event from the WebSocket (or from polling). */
   update(job: Job): void {
+    // Events may arrive out of order (e.g. "queued" after "running"); a job never goes back.
+    const prev = this.jobs.get(job.id);
+    if (prev && (stateRank(job.state) < stateRank(prev.state) || (job.state === prev.state && job.stage === prev.stage && job.progress < prev.progress))) return;
     this.jobs.set(job.id, job);
     if (FINISHED.has(job.state) && !this.reported.has(job.id)) {
       this.reported.add(job.id);
@@ -181,6 +185,10 @@ export class JobsView {
     this.jobs.delete(id);
     this.render();
   }
+}
+
+function stateRank(s: Job['state']): number {
+  return s === 'queued' ? 0 : s === 'running' ? 1 : 2;
 }
 
 function progress(fraction: number, label: string): HTMLElement {

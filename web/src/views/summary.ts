@@ -2,6 +2,7 @@
 
 import type { AltitudeHistogram, Summary } from '../api/types';
 import { h, mount, svg } from '../lib/dom';
+import { trimTail } from '../lib/histogram';
 import { formatCompact, formatDuration, formatInt, formatSpeed, formatUtc } from '../lib/format';
 
 export interface SummaryEvents {
@@ -105,7 +106,7 @@ export class SummaryView {
       mount(
         this.body,
         h('div', { class: 'stats' }, stat('summary-flights', 'Flights', '0', 0), stat('summary-points', 'Points', '0', 0)),
-        h('p', { class: 'empty' }, 'No points match these filters. Widen the time window or the altitude band.'),
+        h('p', { class: 'empty' }, 'No points match these filters.'),
       );
       return;
     }
@@ -134,7 +135,7 @@ export class SummaryView {
     return h(
       'ol',
       { class: 'top-callsigns', 'data-testid': 'summary-top-callsigns' },
-      ...s.top_callsigns.slice(0, 10).map((c) =>
+      ...s.top_callsigns.slice(0, 8).map((c) =>
         h(
           'li',
           {},
@@ -161,10 +162,9 @@ export class SummaryView {
 function altitudeChart(a: AltitudeHistogram): Element {
   const n = a.counts.length;
   if (n === 0) return h('p', { class: 'empty' }, 'No altitudes.');
-  // Trim empty bands above the highest populated one.
-  let last = n - 1;
-  while (last > 0 && a.counts[last] === 0) last--;
-  const counts = a.counts.slice(0, last + 1);
+  // Drop empty bands and a sparse tail of outliers above the bulk of the traffic.
+  const { keep, hidden } = trimTail(a.counts, 0.005);
+  const counts = a.counts.slice(0, keep);
   const W = 280;
   const H = 72;
   const AX = 14;
@@ -183,7 +183,7 @@ function altitudeChart(a: AltitudeHistogram): Element {
   const top = a.min + counts.length * a.bin_width;
   const mid = a.min + Math.round(counts.length / 2) * a.bin_width;
   const label = (v: number) => (unit === 'ft' && v >= 1000 ? `${formatInt(v / 1000)}k ft` : `${formatInt(v)} ${unit}`);
-  return svg(
+  const chart = svg(
     'svg',
     { class: 'alt-chart', viewBox: `0 0 ${W} ${H}`, role: 'img', 'aria-label': `Points per ${formatInt(a.bin_width)} ${unit} altitude band`, 'data-testid': 'summary-altitude' },
     ...bars,
@@ -192,4 +192,6 @@ function altitudeChart(a: AltitudeHistogram): Element {
     svg('text', { x: Math.round(counts.length / 2) * bw, y: H - 3, class: 'tick-label', 'text-anchor': 'middle' }, label(mid)),
     svg('text', { x: W, y: H - 3, class: 'tick-label', 'text-anchor': 'end' }, label(top)),
   );
+  if (hidden === 0) return chart;
+  return h('div', {}, chart, h('div', { class: 'hint', 'data-testid': 'summary-altitude-hidden' }, `+${formatInt(hidden)} points above ${label(top)} not drawn`));
 }

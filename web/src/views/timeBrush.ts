@@ -91,6 +91,7 @@ export class TimeBrush {
     this.hist = hist;
     this.domain = brushDomain(tMin, tMax, hist);
     this.state = 'ready';
+    this.tooltip.hidden = true;
     this.render();
   }
 
@@ -103,6 +104,7 @@ export class TimeBrush {
     this.state = state;
     this.message = message;
     this.hist = null;
+    this.tooltip.hidden = true;
     this.render();
   }
 
@@ -249,7 +251,7 @@ export class TimeBrush {
     }
     const ph = this.plotH();
     const base = TOP_PAD + ph;
-    const max = Math.max(1, ...hist.counts);
+    const max = Math.max(0, ...hist.counts);
     const grid = gridOf(hist);
     const bars = svg('g', { class: 'bars' });
     const bw = timeToX(d.start + hist.bin_seconds, d, W) - timeToX(d.start, d, W);
@@ -257,7 +259,7 @@ export class TimeBrush {
     hist.counts.forEach((c, i) => {
       if (c <= 0) return;
       const x = timeToX(hist.t0 + i * hist.bin_seconds, d, W);
-      const bh = Math.max(1, (c / max) * ph);
+      const bh = Math.max(1, (c / Math.max(1, max)) * ph);
       const inWin = !this.window || binInWindow(i, grid, this.window);
       bars.append(svg('rect', { x: x + gap / 2, y: base - bh, width: Math.max(0.5, bw - gap), height: bh, class: inWin ? 'bar in' : 'bar' }));
     });
@@ -271,12 +273,15 @@ export class TimeBrush {
     for (let t = first; t <= d.end; t += step) {
       const x = Math.round(timeToX(t, d, W)) + 0.5;
       const label = step >= 86400 || t % 86400 === 0 ? formatUtc(t).slice(0, 10) : formatUtcTime(t);
-      axis.append(
-        svg('line', { x1: x, x2: x, y1: base, y2: base + 4, class: 'tick' }),
-        svg('text', { x: x + 3, y: base + 13, class: 'tick-label' }, label),
-      );
+      axis.append(svg('line', { x1: x, x2: x, y1: base, y2: base + 4, class: 'tick' }));
+      // ~6 px per character of the 10 px monospace labels; skip a label the right edge would cut.
+      if (x + 3 + label.length * 6.2 <= W) axis.append(svg('text', { x: x + 3, y: base + 13, class: 'tick-label' }, label));
     }
-    axis.append(svg('text', { x: 4, y: TOP_PAD + 9, class: 'tick-label ymax' }, `${formatCompact(max)} pts/bin`));
+    axis.append(
+      max > 0
+        ? svg('text', { x: 4, y: TOP_PAD + 9, class: 'tick-label ymax' }, `${formatCompact(max)} pts/bin`)
+        : svg('text', { x: W / 2, y: TOP_PAD + ph / 2, class: 'brush-empty', 'text-anchor': 'middle', 'dominant-baseline': 'middle' }, 'No traffic matches the other filters.'),
+    );
 
     const children: SVGElement[] = [bars, axis];
     const wp = this.winPx(this.window);

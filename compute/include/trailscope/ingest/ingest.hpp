@@ -22,14 +22,16 @@
 //    equals the previous one is dropped (consecutive segments share their endpoint; a rare same-time
 //    pair with different positions keeps the first and counts as a duplicate). speed and track come from
 //    the geodesic (GeographicLib WGS84 inverse) to the next point (the last point takes the previous
-//    leg), vrate from the altitude difference over the time difference, on_ground is false. Gap
+//    leg), vrate from the altitude difference over the time difference, on_ground is false; a derived
+//    speed above kMaxSpeed or |vrate| above kMaxVerticalRate (about 1.5 % of the Europe sample's points:
+//    one-point position spikes, clocks wrapping at midnight) is left NaN, the positions are kept. Gap
 //    splitting does not apply: flight_id already delimits a flight, and Douglas-Peucker simplified
 //    segments routinely last longer than limits::kFlightGapSeconds.
 //  - readsb_trace: t = base "timestamp" + dt; alt ft → m, or "ground" → on_ground with alt NaN (readsb
-//    sends no altitude on the ground, and 0 would claim sea level); the altitude is geometric instead of
-//    barometric when flag 8 is set (kept: readsb only does that when no barometric value exists, the
-//    same fallback as OpenSky's geoaltitude); gs kt → m/s; track deg; baro_rate ft/min → m/s, falling
-//    back to geom_rate; icao from "icao" (a "~" prefix, readsb's mark of a non-ICAO address, is dropped);
+//    sends no altitude on the ground, and 0 would claim sea level); flag 8 marks the altitude as geometric
+//    rather than barometric; it is kept as the best altitude the row has (the same fallback as OpenSky's
+//    geoaltitude); gs kt → m/s; track deg; baro_rate ft/min → m/s, falling back to geom_rate; icao from
+//    "icao" (a "~" prefix, readsb's mark of a non-ICAO address, is dropped);
 //    callsign from the details object's "flight" field, carried forward to later rows until it changes
 //    (rows before the first details object take the first callsign of the trace).
 #include <cstddef>
@@ -51,14 +53,16 @@ namespace trailscope::ingest {
 /// rows), JSON array records, readsb trace entries.
 struct IngestReport {
   Format format = Format::opensky_csv;
-  std::size_t rows = 0;        ///< data rows read
-  std::size_t accepted = 0;    ///< rows that passed validation (rows = accepted + rejected)
-  std::size_t rejected = 0;    ///< rows refused; the first kMaxReportedRejects are listed in `rejects`
-  std::size_t duplicates = 0;  ///< accepted samples dropped because the same aircraft already had one at that time
-  std::size_t flights = 0;     ///< flights in the resulting TrailSet (after gap splitting)
-  std::size_t points = 0;      ///< points in the resulting TrailSet
-  std::vector<Reject> rejects; ///< first limits::kMaxReportedRejects rejected rows, in file order
-  double seconds = 0;          ///< wall time of the whole ingest
+  std::size_t rows = 0;      ///< data rows read
+  std::size_t accepted = 0;  ///< rows that passed validation (rows = accepted + rejected)
+  std::size_t rejected = 0;  ///< rows refused; the first kMaxReportedRejects are listed in `rejects`
+  /// Accepted samples dropped because the same aircraft already had one at that time (for SO6: same-time
+  /// points that differ, not the endpoints consecutive segments share by design).
+  std::size_t duplicates = 0;
+  std::size_t flights = 0;      ///< flights in the resulting TrailSet (after gap splitting)
+  std::size_t points = 0;       ///< points in the resulting TrailSet
+  std::vector<Reject> rejects;  ///< first limits::kMaxReportedRejects rejected rows, in file order
+  double seconds = 0;           ///< wall time of the whole ingest
 
   /// {"format", "rows", "accepted", "rejected", "duplicates", "flights", "points",
   ///  "rejects": [{"line", "reason"}...], "seconds"}.
@@ -71,8 +75,9 @@ struct IngestOptions {
   /// Consecutive samples of one aircraft further apart than this (seconds, > 0) start a new flight.
   /// Not used for SO6 (see above).
   double gap_seconds = limits::kFlightGapSeconds;
-  /// Called with ("parse", fraction of the compressed file consumed) about every 65,536 rows, then
-  /// ("assemble", 0) and ("assemble", 1) around building the TrailSet. May be empty.
+  /// Called on the caller's thread with (fraction of the compressed file consumed, "parse") about every
+  /// 65,536 rows and (1, "parse") when parsing ends, then (0, "assemble") and (1, "assemble") around
+  /// building the TrailSet. May be empty.
   ProgressFn progress;
   /// Checked at the same points; a cancelled ingest throws Error(Kind::cancelled) and returns nothing.
   const CancelToken* cancel = nullptr;
@@ -85,12 +90,14 @@ struct IngestOptions {
 ///  - not_found ("path"): the file does not exist; internal ("path"): it exists but cannot be read;
 ///  - invalid_argument ("gap_seconds"): gap_seconds is not > 0;
 ///  - unsupported_format ("format"): the content is not one of the formats (see detect_format()), or a
-///    forced format does not fit it (e.g. a CSV header without time/icao24/lat/lon);
-///  - unprocessable ("file"): a corrupt or truncated gzip stream, a JSON syntax error, a file with no data
-///    rows, or one whose every row was rejected (the message quotes the first reasons);
+///    forced format whose structure is absent (a CSV header without time/icao24/lat/lon, JSON that is
+///    neither records nor a trace);
+///  - unprocessable ("file"): a corrupt or truncated gzip stream, a JSON syntax error inside an array or a
+///    trace, a file with no data rows, or one whose every row was rejected (the message quotes the first
+///    reasons; this is also what a forced line format gives when no line fits it);
 ///  - cancelled (""): opts.cancel was set;
 ///  - payload_too_large: more than 2^32 - 1 points (TrailSetBuilder).
-/// `report`, when given, is filled on success (and left unspecified when an exception is thrown).
+/// `report`, when given, is filled on success and left untouched when an exception is thrown.
 TrailSet ingest_file(const std::string& path, const IngestOptions& opts = {}, IngestReport* report = nullptr);
 
 }  // namespace trailscope::ingest

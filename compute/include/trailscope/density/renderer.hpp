@@ -1,0 +1,105 @@
+#pragma once
+// Density tiles in one call, for the server's tile route and the CLI's `trailscope tile` verb: the whole
+// Datashader pipeline (Canvas → aggregate → shade → PNG) with the colour span shared by every tile of a
+// zoom (span.hpp) and cached.
+//
+// THE SHARED SPAN. For a (dataset, query, value, pixel level, kernel radius, gap) the span is computed
+// once from a coarse aggregate of the query's whole extent — the data extent, cut to the query's bbox —
+// drawn on the pixel grid of the finest level L_s <= L (L = z + log2(size/256)) at which that extent
+// fits in kSpanCanvasPx × kSpanCanvasPx pixels. When L_s = L the span is exact (the distribution of the
+// very pixels the tiles show). When L_s < L it is an estimate: a pixel at L is 2^(L−L_s) times narrower,
+// and the number of lines crossing a square grows with its side, so counts are scaled by 2^(L_s−L) (and,
+// without smoothing, floored at 1, since a drawn pixel at L has count >= 1); the KDE radius is scaled by
+// the same factor; means are not scaled. Either way every tile of the level gets the same span, which
+// is what keeps neighbouring tiles seamless.
+#include <chrono>
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+#include "trailscope/density/aggregate.hpp"
+#include "trailscope/density/png.hpp"
+#include "trailscope/density/shade.hpp"
+#include "trailscope/density/span.hpp"
+#include "trailscope/geo/tile_id.hpp"
+
+namespace trailscope::density {
+
+/// Largest edge (pixels) of the coarse canvas a span is estimated from.
+inline constexpr int kSpanCanvasPx = 1024;
+
+struct TileRequest {
+  geo::TileId tile;                        ///< z in limits::kMinZoom..kMaxZoom, x and y in 0..2^z−1
+  int size = limits::kTileSizeSmall;       ///< 256 or 512 pixels
+  DensityValue value = DensityValue::count;
+  How how = How::eq_hist;
+  std::string cmap = "fire";               ///< colormap.hpp names
+  int kernel_radius = 0;                   ///< KDE radius, pixels, 0..limits::kMaxKernelRadiusPx
+  bool alpha_ramp = false;                 ///< shade.hpp
+  double max_gap_seconds = limits::kFlightGapSeconds;  ///< > 0; +infinity draws every segment
+  Backend backend = default_backend();
+};
+
+/// Throws invalid_argument naming the first bad field: `z`, `x`, `y`, `size`, `cmap`, `kernel_radius`
+/// or `max_gap`.
+void validate(const TileRequest& request);
+
+struct TileResult {
+  std::string png;             ///< PNG bytes (a fully transparent image when `empty`)
+  std::uint64_t max_count = 0; ///< largest segment count of a pixel of this tile (before smoothing)
+  bool empty = true;           ///< no pixel holds data
+  std::string path;            ///< "opencl" or "cpu": where density_lines ran
+  double ms = 0;               ///< wall time of render_tile, span lookup included
+  bool span_cached = false;    ///< the span came from the cache (or another request computing it)
+};
+
+struct RenderOptions {
+  AggregateOptions aggregate;
+  ShadeOptions shade;
+};
+
+/// Aggregates and shades an arbitrary canvas (the CLI's bbox rendering). With `span` null the span is
+/// the canvas's own data (right for a single image, wrong for tiles: use DensityRenderer). Throws what
+/// aggregate() and shade() throw.
+Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& canvas, const RenderOptions& options,
+                    const SpanStats* span = nullptr);
+
+/// The shared span of one pixel level (see THE SHARED SPAN), computed without caching.
+/// `tile_size` is 256 or 512; z and kernel_radius are validated as in TileRequest.
+SpanStats estimate_span(const TrailSet& trails, const Query& query, DensityValue value, int z, int tile_size,
+                        int kernel_radius, double max_gap_seconds, Backend backend);
+
+/// Renders tiles and owns the span cache (LRU, thread-safe; concurrent requests for a span being
+/// computed wait for that computation instead of repeating it). One instance per server.
+class DensityRenderer {
+ public:
+  explicit DensityRenderer(std::size_t max_cached_spans = 512);
+
+  /// Validates `request` (see validate()), then renders its tile of `trails` under `query`.
+  /// `dataset_key` must change whenever the TrailSet's content does (it keys the span cache).
+  /// Throws invalid_argument naming the bad parameter, or Error(Kind::backend) under opencl_strict().
+  TileResult render_tile(const TrailSet& trails, const std::string& dataset_key, const Query& query,
+                         const TileRequest& request);
+
+  /// The cached span for a request's level (computing it when needed); `cached` tells which.
+  std::shared_ptr<const SpanStats> span_for(const TrailSet& trails, const std::string& dataset_key, const Query& query,
+                                            const TileRequest& request, bool* cached = nullptr);
+
+  /// Drops every cached span of a dataset (call when it is deleted or replaced).
+  void forget_dataset(std::string_view dataset_key);
+  std::size_t cached_spans() const;
+
+ private:
+  struct Slot;
+  using Lru = std::list<std::string>;
+  std::size_t capacity_;
+  mutable std::mutex mutex_;
+  Lru lru_;  ///< most recent first
+  std::unordered_map<std::string, std::shared_ptr<Slot>> slots_;
+};
+
+}  // namespace trailscope::density

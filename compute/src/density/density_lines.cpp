@@ -1,0 +1,307 @@
+// density_lines: segment preparation (exact integer clipping of each segment's pixel walk to the canvas)
+// and the dispatch between the OpenCL kernel and the reference (density_lines_ref.cpp).
+//
+// Why `auto` does not pick PoCL's CPU device: on the 2-core build machine the kernel's atomic scatter
+// (one work-item per segment, atomic_inc per pixel) ran the Europe SO6 day's z=4 tiles in several times
+// the reference's time (see the measurements in the density README section of the report / tests); PoCL
+// atomics on a CPU are locked RMW operations on shared cache lines, while the reference adds into a
+// private grid per thread. A GPU has the bandwidth and native atomics to gain on large inputs, so `auto`
+// considers GPUs/accelerators only, from kAutoOpenClMinSegments segments.
+#include "trailscope/density/density_lines.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+#include "ocl/dispatch.hpp"
+#include "ocl/ops.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/geo/web_mercator.hpp"
+
+namespace trailscope::density {
+namespace {
+
+using i128 = __int128;
+constexpr std::int64_t kWorld = std::int64_t{1} << 32;
+constexpr std::int64_t kHalfWorld = std::int64_t{1} << 31;
+
+constexpr std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
+  const std::int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+constexpr i128 floor_div(i128 a, i128 b) {  // b > 0
+  const i128 q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+constexpr i128 ceil_div(i128 a, i128 b) {  // b > 0
+  const i128 q = a / b;
+  return (a % b != 0 && a > 0) ? q + 1 : q;
+}
+constexpr int sign(std::int64_t v) { return (v > 0) - (v < 0); }
+
+// An event time along the segment, t = num/den (den > 0), with the order of events at equal t: flag 0
+// for a crossing in the positive direction (it happens AT t: the boundary belongs to the next pixel),
+// 1 for the negative direction (it happens just AFTER t), -1 for "before everything" (t = 0, no event).
+struct Key {
+  i128 num = 0, den = 1;
+  int flag = -1;
+};
+bool less(const Key& a, const Key& b) {
+  const i128 l = a.num * b.den, r = b.num * a.den;
+  return l < r || (l == r && a.flag < b.flag);
+}
+
+// Pixel index along one axis after every event with key <= k (see density_lines.hpp: the half-open rule).
+std::int64_t cell_at(std::int64_t a, std::int64_t delta, int s, std::int64_t p, const Key& k) {
+  if (s == 0) return floor_div(a, p);
+  const i128 pos = i128{a} * k.den + i128{delta} * k.num;  // position · den
+  const i128 size = i128{p} * k.den;
+  if (s < 0 && k.flag == 1) return static_cast<std::int64_t>(ceil_div(pos, size) - 1);
+  return static_cast<std::int64_t>(floor_div(pos, size));
+}
+
+// Stores the walk of segment a → b (canvas-relative units) from its first pixel inside the canvas.
+void prepare_one(LineSegments& out, std::int64_t p, std::int64_t ax, std::int64_t ay, std::int64_t bx,
+                 std::int64_t by, bool skip_first, std::int32_t value, bool has_value) {
+  const int w = out.width, h = out.height;
+  const std::int64_t cax = floor_div(ax, p), cay = floor_div(ay, p);
+  const std::int64_t cbx = floor_div(bx, p), cby = floor_div(by, p);
+  if (std::max(cax, cbx) < 0 || std::min(cax, cbx) > w - 1 || std::max(cay, cby) < 0 || std::min(cay, cby) > h - 1)
+    return;
+  const std::int64_t dx = bx - ax, dy = by - ay;
+  const int sx = sign(dx), sy = sign(dy);
+  const std::int64_t adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
+
+  std::int64_t i = cax, j = cay;
+  if (cax < 0 || cax > w - 1 || cay < 0 || cay > h - 1) {
+    // The first endpoint is outside: find the first pixel of the walk inside. Along each axis the pixel
+    // index enters the canvas range at one event (or is inside from t = 0); the walk is inside from the
+    // later of the two events on, if the other index has not left its range by then (the walk is
+    // monotone in both axes, so it cannot come back).
+    skip_first = false;  // the shared first pixel is outside the canvas
+    Key kx, ky;
+    if (cax < 0) kx = Key{-i128{ax}, i128{dx}, 0};                          // sx > 0: enter column 0 at x = 0
+    else if (cax > w - 1) kx = Key{i128{ax} - i128{w} * p, i128{adx}, 1};  // sx < 0: enter column w-1 after x = w·p
+    if (cay < 0) ky = Key{-i128{ay}, i128{dy}, 0};
+    else if (cay > h - 1) ky = Key{i128{ay} - i128{h} * p, i128{ady}, 1};
+    const Key k = less(kx, ky) ? ky : kx;
+    i = cell_at(ax, dx, sx, p, k);
+    j = cell_at(ay, dy, sy, p, k);
+    if (i < 0 || i > w - 1 || j < 0 || j > h - 1) return;  // passes by the canvas corner
+  }
+  // Decision variable at pixel (i, j): with ex, ey the distances (units) from the first endpoint to the
+  // next vertical / horizontal pixel edge in the walk direction, the edges are reached at t = ex/|dx| and
+  // ey/|dy|; d = ex·|dy| − ey·|dx| has the sign of their difference. Within the walk |d| <= p·max(|dx|,
+  // |dy|) < 2^60, so the device works in int64 from here on.
+  const i128 ex = sx > 0 ? i128{i + 1} * p - ax : (sx < 0 ? i128{ax} - i128{i} * p : 0);
+  const i128 ey = sy > 0 ? i128{j + 1} * p - ay : (sy < 0 ? i128{ay} - i128{j} * p : 0);
+  const i128 d = ex * ady - ey * adx;
+  constexpr i128 kLimit = i128{1} << 62;
+  if (d > kLimit || d < -kLimit || ex < 0 || ey < 0)
+    throw Error(Error::Kind::internal, "", "density_lines: walk state out of range (a bug)");
+  out.walk.push_back(static_cast<std::int64_t>(d));
+  out.walk.push_back(p * ady);
+  out.walk.push_back(p * adx);
+  out.cells.push_back(static_cast<std::int32_t>(i));
+  out.cells.push_back(static_cast<std::int32_t>(j));
+  out.cells.push_back(static_cast<std::int32_t>(std::clamp<std::int64_t>(cbx, -1, w)));
+  out.cells.push_back(static_cast<std::int32_t>(std::clamp<std::int64_t>(cby, -1, h)));
+  out.cells.push_back((sx + 1) | ((sy + 1) << 2) | (skip_first ? 16 : 0) | (has_value ? 32 : 0));
+  out.cells.push_back(value);
+}
+
+std::int32_t to_fixed(double v) {
+  const double f = std::nearbyint(v * kValueScale);
+  constexpr double lo = std::numeric_limits<std::int32_t>::min(), hi = std::numeric_limits<std::int32_t>::max();
+  return static_cast<std::int32_t>(std::clamp(f, lo, hi));
+}
+
+// Mean of a segment's endpoint values (the known one if the other is NaN).
+double segment_value(float a, float b) {
+  const bool ka = !std::isnan(a), kb = !std::isnan(b);
+  if (ka && kb) return 0.5 * (static_cast<double>(a) + static_cast<double>(b));
+  if (ka) return a;
+  if (kb) return b;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
+DensityValue parse_density_value(std::string_view text, const std::string& param) {
+  if (text == "count") return DensityValue::count;
+  if (text == "altitude") return DensityValue::altitude;
+  if (text == "speed") return DensityValue::speed;
+  throw invalid_argument(param, "unknown density value '" + std::string(text) + "' (expected count, altitude or speed)");
+}
+
+const char* to_string(DensityValue v) noexcept {
+  switch (v) {
+    case DensityValue::count:
+      return "count";
+    case DensityValue::altitude:
+      return "altitude";
+    case DensityValue::speed:
+      return "speed";
+  }
+  return "count";
+}
+
+const char* to_string(ComputePath p) noexcept { return p == ComputePath::opencl ? "opencl" : "cpu"; }
+
+LineSegments LineSegments::for_canvas(const Canvas& canvas, bool with_value) {
+  LineSegments s;
+  s.width = canvas.width();
+  s.height = canvas.height();
+  s.with_value = with_value;
+  return s;
+}
+
+void append_segment(LineSegments& out, const Canvas& canvas, MercPoint a, MercPoint b, bool continues_run,
+                    double value) {
+  // The short way round: unwrap b next to a.
+  const std::int64_t dx = b.x - a.x;
+  if (dx > kHalfWorld) b.x -= kWorld;
+  else if (dx < -kHalfWorld) b.x += kWorld;
+  const std::int64_t min_x = std::min(a.x, b.x), max_x = std::max(a.x, b.x);
+  const std::int64_t ox = canvas.origin_x(), oy = canvas.origin_y(), end_x = canvas.end_x();
+  if (std::max(a.y, b.y) < oy || std::min(a.y, b.y) >= canvas.end_y()) return;
+  // Every copy shifted by k worlds whose x range meets [ox, end_x).
+  const std::int64_t k_lo = -floor_div(max_x - ox, kWorld);  // = ceil((ox - max_x) / world)
+  const std::int64_t k_hi = floor_div(end_x - 1 - min_x, kWorld);
+  const bool has_value = out.with_value && !std::isnan(value);
+  const std::int32_t fixed = has_value ? to_fixed(value) : 0;
+  for (std::int64_t k = k_lo; k <= k_hi; ++k) {
+    const std::int64_t shift = k * kWorld - ox;
+    prepare_one(out, canvas.pixel_units(), a.x + shift, a.y - oy, b.x + shift, b.y - oy, continues_run, fixed,
+                has_value);
+  }
+}
+
+LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, const Canvas& canvas,
+                                   DensityValue value, double max_gap_seconds) {
+  if (!(max_gap_seconds > 0)) throw invalid_argument("max_gap", "the largest time gap of a drawn segment must be > 0 s");
+  const bool with_value = value != DensityValue::count;
+  const auto& flights = trails.flights();
+  const PointColumns& pts = trails.points();
+  const auto& mx = trails.merc_x();
+  const auto& my = trails.merc_y();
+  const float* values = value == DensityValue::altitude ? pts.alt.data()
+                        : value == DensityValue::speed  ? pts.speed.data()
+                                                        : nullptr;
+  const std::int64_t p = canvas.pixel_units();
+  const std::int64_t cx0 = canvas.origin_x() - p, cx1 = canvas.end_x() + p;  // one pixel of slack for the
+  const std::int64_t cy0 = canvas.origin_y() - p, cy1 = canvas.end_y() + p;  // float extents' rounding
+
+  // The flight's extents as a zone map: a flight whose box (or a copy of it one world east or west)
+  // misses the canvas has no segment on it. Extents across 180° say nothing about x.
+  auto may_meet = [&](const Flight& f) {
+    const std::int64_t y0 = geo::lat_to_merc_y(f.lat_max), y1 = geo::lat_to_merc_y(f.lat_min);
+    if (y1 < cy0 || y0 > cy1) return false;
+    if (f.crosses_antimeridian || f.lon_min > f.lon_max) return true;
+    const std::int64_t x0 = geo::lon_to_merc_x(f.lon_min), x1 = geo::lon_to_merc_x(f.lon_max);
+    for (std::int64_t k = -1; k <= 1; ++k)
+      if (x1 + k * kWorld >= cx0 && x0 + k * kWorld <= cx1) return true;
+    return false;
+  };
+
+  auto draw_flight = [&](const Flight& f, LineSegments& out) {
+    if (f.size() < 2 || !query.may_match(f) || !may_meet(f)) return;
+    bool prev_ok = query.matches_point(pts, f.begin);
+    bool prev_drawn = false;
+    for (std::uint32_t i = f.begin + 1; i < f.end; ++i) {
+      const bool ok = query.matches_point(pts, i);
+      const bool draw = ok && prev_ok && pts.t[i] - pts.t[i - 1] <= max_gap_seconds;
+      if (draw) {
+        const double v = values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
+        append_segment(out, canvas, MercPoint{mx[i - 1], my[i - 1]}, MercPoint{mx[i], my[i]}, prev_drawn, v);
+      }
+      prev_drawn = draw;
+      prev_ok = ok;
+    }
+  };
+
+  // Fixed chunks of flights, concatenated in chunk order: the segment order (and so the result, though
+  // integer sums would not care) does not depend on the thread count.
+  constexpr std::size_t kChunk = 256;
+  const std::size_t chunks = (flights.size() + kChunk - 1) / kChunk;
+  std::vector<LineSegments> parts(chunks, LineSegments::for_canvas(canvas, with_value));
+  auto run_chunk = [&](std::size_t c) {
+    const std::size_t end = std::min(flights.size(), (c + 1) * kChunk);
+    for (std::size_t f = c * kChunk; f < end; ++f) draw_flight(flights[f], parts[c]);
+  };
+  if (chunks > 1 && trails.num_points() >= 20000) {
+    tbb::parallel_for(std::size_t{0}, chunks, run_chunk);
+  } else {
+    for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+  }
+
+  LineSegments out = LineSegments::for_canvas(canvas, with_value);
+  std::size_t total = 0;
+  for (const auto& part : parts) total += part.size();
+  out.walk.reserve(3 * total);
+  out.cells.reserve(6 * total);
+  for (const auto& part : parts) {
+    out.walk.insert(out.walk.end(), part.walk.begin(), part.walk.end());
+    out.cells.insert(out.cells.end(), part.cells.begin(), part.cells.end());
+  }
+  return out;
+}
+
+Aggregate Aggregate::zeros(int width, int height, bool with_value) {
+  Aggregate a;
+  a.width = width;
+  a.height = height;
+  a.with_value = with_value;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  a.count.assign(n, 0);
+  if (with_value) {
+    a.value_sum.assign(n, 0);
+    a.value_count.assign(n, 0);
+  }
+  return a;
+}
+
+std::int32_t Aggregate::max_count() const {
+  return count.empty() ? 0 : *std::max_element(count.begin(), count.end());
+}
+
+std::uint64_t Aggregate::total_count() const {
+  std::uint64_t t = 0;
+  for (std::int32_t c : count) t += static_cast<std::uint64_t>(c);
+  return t;
+}
+
+double Aggregate::mean(int x, int y) const {
+  const std::size_t idx = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+  if (!with_value || value_count[idx] == 0) return std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(value_sum[idx]) / kValueScale / value_count[idx];
+}
+
+bool Aggregate::same_numbers(const Aggregate& o) const {
+  return width == o.width && height == o.height && with_value == o.with_value && count == o.count &&
+         value_sum == o.value_sum && value_count == o.value_count;
+}
+
+Aggregate density_lines(const LineSegments& segments, Backend backend) {
+  if (segments.width < 1 || segments.width > kMaxCanvasPx || segments.height < 1 || segments.height > kMaxCanvasPx)
+    throw invalid_argument("segments", "segments were not prepared for a valid canvas");
+  if (segments.cells.size() % 6 != 0 || segments.walk.size() != segments.size() * 3)
+    throw invalid_argument("segments", "malformed prepared segments (walk/cells sizes disagree)");
+  if (segments.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw invalid_argument("segments", "more than 2^31 segments in one aggregate");
+
+  Aggregate out;
+  // Only `auto` asks whether OpenCL would gain, so that `cpu` never initialises the OpenCL runtime.
+  const bool worth = backend == Backend::auto_ && segments.size() >= kAutoOpenClMinSegments && ocl::device_is_gpu();
+  const ocl::Path path = ocl::dispatch(
+      "density_lines", backend, worth, [&] { return ocl::density_lines_ocl(segments, out); },
+      [&] { out = density_lines_ref(segments); });
+  out.path = path == ocl::Path::opencl ? ComputePath::opencl : ComputePath::cpu;
+  return out;
+}
+
+}  // namespace trailscope::density

@@ -1,0 +1,116 @@
+// The C++ reference of compute/kernels/density_lines.cl: the same walk, statement for statement, so that
+// both give bit-identical aggregates (the reference-versus-OpenCL tests check it).
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "trailscope/density/density_lines.hpp"
+
+namespace trailscope::density {
+namespace {
+
+struct Grids {
+  std::int32_t* count;
+  std::int64_t* value_sum;    // nullptr without values
+  std::int32_t* value_count;  // nullptr without values
+};
+
+void walk_segment(const std::int64_t* walk, const std::int32_t* cells, int width, int height, const Grids& g) {
+  std::int64_t d = walk[0];
+  const std::int64_t inc_x = walk[1], inc_y = walk[2];
+  int i = cells[0], j = cells[1];
+  const int end_i = cells[2], end_j = cells[3], flags = cells[4];
+  const int sx = (flags & 3) - 1, sy = ((flags >> 2) & 3) - 1;
+  bool skip = (flags >> 4) & 1;
+  const bool has_value = g.value_sum && ((flags >> 5) & 1);
+  const std::int64_t value = cells[5];
+  for (int guard = width + height + 2; guard > 0; --guard) {
+    if (!skip) {
+      const std::size_t idx = static_cast<std::size_t>(j) * static_cast<std::size_t>(width) + static_cast<std::size_t>(i);
+      ++g.count[idx];
+      if (has_value) {
+        g.value_sum[idx] += value;
+        ++g.value_count[idx];
+      }
+    }
+    skip = false;
+    if (i == end_i && j == end_j) break;
+    if (sx == 0) {
+      j += sy;
+    } else if (sy == 0) {
+      i += sx;
+    } else if (d < 0) {
+      i += sx;
+      d += inc_x;
+    } else if (d > 0) {
+      j += sy;
+      d -= inc_y;
+    } else if (sx > 0 && sy < 0) {
+      i += sx;
+      d += inc_x;
+    } else if (sx < 0 && sy > 0) {
+      j += sy;
+      d -= inc_y;
+    } else {
+      i += sx;
+      j += sy;
+      d += inc_x - inc_y;
+    }
+    if (i < 0 || i >= width || j < 0 || j >= height) break;
+  }
+}
+
+struct LocalGrids {
+  std::vector<std::int32_t> count, value_count;
+  std::vector<std::int64_t> value_sum;
+  Grids view() {
+    return Grids{count.data(), value_sum.empty() ? nullptr : value_sum.data(),
+                 value_count.empty() ? nullptr : value_count.data()};
+  }
+};
+
+}  // namespace
+
+Aggregate density_lines_ref(const LineSegments& s) {
+  Aggregate a = Aggregate::zeros(s.width, s.height, s.with_value);
+  const std::size_t n = s.size();
+  const std::size_t pixels = a.count.size();
+  // Per-thread private grids pay off only when there are many segments per pixel to clear and sum;
+  // below that, or for very large canvases (a private grid per thread would cost more memory traffic
+  // than the walk), one thread adds into the result directly.
+  constexpr std::size_t kParallelMinSegments = 16384;
+  constexpr std::size_t kParallelMaxPixels = std::size_t{1} << 22;
+  if (n < kParallelMinSegments || pixels > kParallelMaxPixels || n < pixels / 8) {
+    const Grids g{a.count.data(), s.with_value ? a.value_sum.data() : nullptr,
+                  s.with_value ? a.value_count.data() : nullptr};
+    for (std::size_t k = 0; k < n; ++k) walk_segment(&s.walk[3 * k], &s.cells[6 * k], s.width, s.height, g);
+  } else {
+    tbb::enumerable_thread_specific<LocalGrids> local([&] {
+      LocalGrids l;
+      l.count.assign(pixels, 0);
+      if (s.with_value) {
+        l.value_sum.assign(pixels, 0);
+        l.value_count.assign(pixels, 0);
+      }
+      return l;
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+      const Grids g = local.local().view();
+      for (std::size_t k = r.begin(); k < r.end(); ++k)
+        walk_segment(&s.walk[3 * k], &s.cells[6 * k], s.width, s.height, g);
+    });
+    // Integer sums: the result is the same whichever thread drew which segment.
+    for (auto& l : local) {
+      for (std::size_t p = 0; p < pixels; ++p) a.count[p] += l.count[p];
+      if (s.with_value)
+        for (std::size_t p = 0; p < pixels; ++p) {
+          a.value_sum[p] += l.value_sum[p];
+          a.value_count[p] += l.value_count[p];
+        }
+    }
+  }
+  a.path = ComputePath::cpu;
+  return a;
+}
+
+}  // namespace trailscope::density

@@ -1,0 +1,89 @@
+// Host side of compute/kernels/density_lines.cl (see density/density_lines.hpp for what it computes).
+#include "ocl/ops.hpp"
+
+#include "trailscope/density/density_lines.hpp"
+#ifdef TRAILSCOPE_HAVE_OPENCL
+#include "ocl/runtime.hpp"
+#endif
+
+namespace trailscope::ocl {
+
+const std::vector<std::pair<std::string, std::string>>& kernel_variants() {
+  static const std::vector<std::pair<std::string, std::string>> all = {
+      {"density_lines", ""},
+      {"density_lines", "-DWITH_VALUE=1"},
+  };
+  return all;
+}
+
+#ifdef TRAILSCOPE_HAVE_OPENCL
+std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate& out) {
+  std::string why;
+  const DeviceContext* ctx = device_context(&why);
+  if (!ctx) return "OpenCL unavailable: " + why;
+  if (s.with_value && !ctx->int64_atomics) return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
+  const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+  const std::size_t n = s.size();
+  if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes || n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
+    return "buffers exceed the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE";
+
+  density::Aggregate a = density::Aggregate::zeros(s.width, s.height, s.with_value);
+  try {
+    const cl::Context& context = ctx->context;
+    const cl::CommandQueue& queue = ctx->queue;
+    cl::Program prog = program("density_lines", s.with_value ? "-DWITH_VALUE=1" : "");
+    // One kernel object per call: clSetKernelArg on a shared kernel is not thread-safe.
+    cl::Kernel kernel(prog, "density_lines");
+
+    cl::Buffer count(context, CL_MEM_READ_WRITE, pixels * sizeof(std::int32_t));
+    queue.enqueueFillBuffer(count, std::int32_t{0}, 0, pixels * sizeof(std::int32_t));
+    cl::Buffer value_sum, value_count;
+    if (s.with_value) {
+      value_sum = cl::Buffer(context, CL_MEM_READ_WRITE, pixels * sizeof(std::int64_t));
+      value_count = cl::Buffer(context, CL_MEM_READ_WRITE, pixels * sizeof(std::int32_t));
+      queue.enqueueFillBuffer(value_sum, std::int64_t{0}, 0, pixels * sizeof(std::int64_t));
+      queue.enqueueFillBuffer(value_count, std::int32_t{0}, 0, pixels * sizeof(std::int32_t));
+    }
+    if (n > 0) {
+      // COPY_HOST_PTR: the buffers are read-only on the device, the host data stays untouched.
+      cl::Buffer walk(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, s.walk.size() * sizeof(std::int64_t),
+                      const_cast<std::int64_t*>(s.walk.data()));
+      cl::Buffer cells(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, s.cells.size() * sizeof(std::int32_t),
+                       const_cast<std::int32_t*>(s.cells.data()));
+      int arg = 0;
+      kernel.setArg(arg++, walk);
+      kernel.setArg(arg++, cells);
+      kernel.setArg(arg++, static_cast<cl_int>(n));
+      kernel.setArg(arg++, static_cast<cl_int>(s.width));
+      kernel.setArg(arg++, static_cast<cl_int>(s.height));
+      kernel.setArg(arg++, count);
+      if (s.with_value) {
+        kernel.setArg(arg++, value_sum);
+        kernel.setArg(arg++, value_count);
+      }
+      // A fixed work-group size: with NullRange PoCL picks one from the global size and compiles the
+      // kernel again for each new size (~0.1–0.2 s), i.e. for almost every tile. The kernel ignores the
+      // padding work-items (s >= n).
+      constexpr std::size_t kGroup = 64;
+      queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + kGroup - 1) / kGroup * kGroup),
+                                 cl::NDRange(kGroup));
+    }
+    queue.enqueueReadBuffer(count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.count.data());
+    if (s.with_value) {
+      queue.enqueueReadBuffer(value_sum, CL_TRUE, 0, pixels * sizeof(std::int64_t), a.value_sum.data());
+      queue.enqueueReadBuffer(value_count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.value_count.data());
+    }
+  } catch (const cl::Error& e) {
+    return "density_lines kernel failed: " + describe(e);
+  }
+  a.path = density::ComputePath::opencl;
+  out = std::move(a);
+  return {};
+}
+#else
+std::string density_lines_ocl(const density::LineSegments&, density::Aggregate&) {
+  return "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)";
+}
+#endif
+
+}  // namespace trailscope::ocl

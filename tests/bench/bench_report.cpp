@@ -1,0 +1,352 @@
+// Writes BENCHMARKS.md from the records the benchmark programs printed (tests/bench/out/results.jsonl),
+// the machine description and the command list that run_benchmarks.sh collected.
+//
+//   bench_report --results results.jsonl --meta meta.txt --commands commands.txt --out BENCHMARKS.md
+//
+// Lines of results.jsonl that are not JSON objects are ignored. Every figure in the report is a median
+// (p50) unless a column says otherwise; targets are those of the benchmark issue.
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "bench_util.hpp"
+
+using namespace bench;
+
+namespace {
+
+std::vector<json> records;
+std::map<std::string, std::string> meta;
+
+std::vector<const json*> find(const std::string& bench, const std::map<std::string, std::string>& where = {}) {
+  std::vector<const json*> out;
+  for (const json& r : records) {
+    if (r.value("bench", "") != bench) continue;
+    bool ok = true;
+    for (const auto& [k, v] : where)
+      if (!r.contains(k) || (r[k].is_string() ? r[k].get<std::string>() : r[k].dump()) != v) ok = false;
+    if (ok) out.push_back(&r);
+  }
+  return out;
+}
+const json* find1(const std::string& bench, const std::map<std::string, std::string>& where = {}) {
+  const auto v = find(bench, where);
+  return v.empty() ? nullptr : v.front();
+}
+
+std::string num(double v, int decimals) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(decimals) << v;
+  return o.str();
+}
+/// Milliseconds with a precision that suits the size.
+std::string ms(double v) { return v >= 100 ? num(v, 0) : v >= 10 ? num(v, 1) : num(v, 2); }
+std::string ms(const json* r, const std::string& key) {
+  return r && r->contains(key) && (*r)[key].is_number() ? ms((*r)[key].get<double>()) : "–";
+}
+std::string grouped(double v) {
+  std::string s = num(std::round(v), 0), out;
+  int k = 0;
+  for (auto it = s.rbegin(); it != s.rend(); ++it) {
+    if (k && k % 3 == 0 && *it != '-') out.insert(out.begin(), ',');
+    out.insert(out.begin(), *it);
+    ++k;
+  }
+  return out;
+}
+std::string grouped(const json* r, const std::string& key) {
+  return r && r->contains(key) && (*r)[key].is_number() ? grouped((*r)[key].get<double>()) : "–";
+}
+std::string ratio(double v) { return std::isfinite(v) ? num(v, v >= 10 ? 0 : 1) + "×" : "–"; }
+std::string met(bool ok) { return ok ? "**met**" : "**not met**"; }
+std::string str(const json* r, const std::string& key) {
+  return r && r->contains(key) ? ((*r)[key].is_string() ? (*r)[key].get<std::string>() : (*r)[key].dump()) : "–";
+}
+double dbl(const json* r, const std::string& key, double def = NAN) {
+  return r && r->contains(key) && (*r)[key].is_number() ? (*r)[key].get<double>() : def;
+}
+std::string code(const std::string& s) { return "`" + s + "`"; }
+
+struct Target {
+  std::string item, what, target, measured;
+  bool ok;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Args a(argc, argv);
+    {
+      std::ifstream in(a.get("results"));
+      std::string line;
+      while (std::getline(in, line)) {
+        if (line.empty() || line[0] != '{') continue;
+        try {
+          records.push_back(json::parse(line));
+        } catch (const std::exception&) {
+        }
+      }
+    }
+    {
+      std::ifstream in(a.get("meta"));
+      std::string line;
+      while (std::getline(in, line)) {
+        const auto tab = line.find('\t');
+        if (tab != std::string::npos) meta[line.substr(0, tab)] = line.substr(tab + 1);
+      }
+    }
+    std::string commands;
+    {
+      std::ifstream in(a.get("commands"));
+      std::stringstream ss;
+      ss << in.rdbuf();
+      commands = ss.str();
+    }
+    const auto m = [&](const std::string& k) { return meta.count(k) ? meta[k] : std::string("?"); };
+
+    std::vector<Target> targets;
+    std::ostringstream body;  // sections after the targets table
+
+    // ---- 1. ingest -------------------------------------------------------------------------------
+    body << "## 1. Ingest\n\n"
+            "`trailscope::ingest::ingest_file()` in process (read, decompress on a helper thread, parse, "
+            "validate, build the columnar TrailSet with its Mercator columns). Rows are input rows "
+            "(SO6: segment lines; CSV: state vectors). Median of the runs; target ≥ 1,000,000 rows/s.\n\n"
+            "| input | file size | rows | points | flights | runs | time p50 | **rows/s p50** | best rows/s | parse / assemble (p50) | peak RSS | target |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("ingest")) {
+      const double rps = dbl(r, "rows_per_s_p50");
+      const bool ok = rps >= 1e6;
+      const std::string label = str(r, "label");
+      body << "| " << label << " (" << str(r, "format") << ") | " << num(dbl(r, "bytes") / 1e6, 1) << " MB | "
+           << grouped(r, "rows") << " | " << grouped(r, "points") << " | " << grouped(r, "flights") << " | "
+           << str(r, "reps") << " | " << num(dbl(r, "s_p50"), 3) << " s | **" << grouped(rps) << "** | "
+           << grouped(r, "rows_per_s_best") << " | " << num(dbl(r, "parse_s_p50"), 3) << " s / "
+           << num(dbl(r, "assemble_s_p50"), 3) << " s | " << grouped(r, "peak_rss_mib") << " MiB | " << met(ok) << " |\n";
+      targets.push_back({"1", "ingest " + label, "≥ 1,000,000 rows/s", grouped(rps) + " rows/s", ok});
+    }
+    for (const json* r : find("make_csv"))
+      body << "\nGenerated input " << code(std::filesystem::path(str(r, "file")).filename().string()) << ": "
+           << grouped(r, "rows") << " rows (" << grouped(r, "flights") << " demo flights), "
+           << num(dbl(r, "bytes") / 1e6, 0) << " MB; generated in " << num(dbl(r, "generate_s"), 1)
+           << " s, written in " << num(dbl(r, "write_s"), 1) << " s (deleted after the run).";
+    body << "\n\n";
+
+    // ---- 2. summary ------------------------------------------------------------------------------
+    const json* ds = find1("dataset", {{"name", "demo"}});
+    body << "## 2. Summary latency\n\n"
+            "`trailscope::summarize()` in process (counts, time histogram, altitude histogram, speed "
+            "statistics, top 10 callsigns) over the generated US demo day";
+    if (ds) body << " (" << grouped(ds, "flights") << " flights, **" << grouped(ds, "points") << " points**, generated in "
+                 << num(dbl(ds, "generate_s"), 1) << " s)";
+    body << ", and the same request through the server (`GET /api/v1/datasets/demo/summary?...`, one "
+            "keep-alive connection, sequential; includes JSON encoding and HTTP). Target: p50 ≤ 50 ms.\n\n"
+            "| window | query | matching points | flights | runs | **p50** | p95 | min | max | HTTP p50 | HTTP p95 | target |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("summary", {{"impl", "trailscope"}})) {
+      const std::string w = str(r, "window");
+      const json* h = find1("http", {{"label", "summary_" + w}});
+      std::string params;
+      for (const auto& [k, v] : (*r)["params"].items()) params += (params.empty() ? "" : "&") + k + "=" + v.get<std::string>();
+      const bool ok = dbl(r, "ms_p50") <= 50;
+      body << "| " << str(r, "label") << " | " << (params.empty() ? "–" : code(params)) << " | " << grouped(r, "points")
+           << " | " << grouped(r, "flights") << " | " << str(r, "reps") << " | **" << ms(r, "ms_p50") << " ms** | "
+           << ms(r, "ms_p95") << " ms | " << ms(r, "ms_min") << " ms | " << ms(r, "ms_max") << " ms | "
+           << ms(h, "ms_p50") << " ms | " << ms(h, "ms_p95") << " ms | " << met(ok) << " |\n";
+      targets.push_back({"2", "summary p50, " + str(r, "label"), "≤ 50 ms", ms(r, "ms_p50") + " ms", ok});
+    }
+    body << "\n";
+
+    // ---- 3. tiles --------------------------------------------------------------------------------
+    body << "## 3. Density tiles (256 px)\n\n"
+            "`DensityRenderer::render_tile()` in process: prepare the line segments of every flight that "
+            "meets the tile, rasterise them (exact integer walk, count per pixel), shade (eq_hist, fire) "
+            "and encode the PNG. **cold** = a new renderer per run, so the zoom level's shared colour span "
+            "(a coarse aggregate of the whole data extent) is computed too; **span warm** = the span is "
+            "cached, the tile itself is rendered again (the tile bytes are cached by the server, see the "
+            "HTTP rows and §4). Backend `cpu` is the TBB reference; `opencl` runs the kernel on PoCL ("
+         << m("opencl") << "). Europe = the SO6 day, drawn with no gap limit (its Douglas-Peucker segments "
+            "are long); demo = the generated US day. Target: cold p50 ≤ 20 ms.\n\n"
+            "| data | tile | backend (ran on) | runs | **cold p50** | cold p95 | span-warm p50 | span-warm p95 | max count | PNG bytes | target (cold) |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("tile", {{"impl", "trailscope"}, {"mode", "cold"}})) {
+      const json* w = find1("tile", {{"impl", "trailscope"}, {"mode", "span_warm"}, {"dataset", str(r, "dataset")},
+                                     {"tile", str(r, "tile")}, {"backend", str(r, "backend")}});
+      const bool ok = dbl(r, "ms_p50") <= 20;
+      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " " << str(r, "label") << " | "
+           << str(r, "backend") << " (" << str(r, "path") << ") | " << str(r, "reps") << " | **" << ms(r, "ms_p50")
+           << " ms** | " << ms(r, "ms_p95") << " ms | " << ms(w, "ms_p50") << " ms | " << ms(w, "ms_p95") << " ms | "
+           << grouped(r, "max_count") << " | " << grouped(r, "png_bytes") << " | " << met(ok) << " |\n";
+      if (str(r, "dataset") == "europe")
+        targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", " + str(r, "backend"), "≤ 20 ms",
+                           ms(r, "ms_p50") + " ms", ok});
+    }
+    if (const json* f = find1("tile_first_call"))
+      body << "\nFirst OpenCL call of a process (context, queue, kernel build; PoCL keeps compiled kernels in "
+           << code("POCL_CACHE_DIR") << ", here empty at the start of the run): " << ms(f, "ms") << " ms (ran on "
+           << str(f, "path") << ").\n";
+    body << "\nWhere a tile's time goes (each stage timed on its own, p50; the cold tile is roughly span + "
+            "prepare + rasterise + shade + PNG):\n\n"
+            "| data | tile | segments drawn | span estimate | prepare segments | rasterise cpu | rasterise opencl | raster + shade | PNG encode |\n"
+            "|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("tile_stages"))
+      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "segments") << " | "
+           << ms(r, "span_estimate_ms_p50") << " ms | " << ms(r, "prepare_segments_ms_p50") << " ms | "
+           << ms(r, "density_lines_cpu_ms_p50") << " ms | " << ms(r, "density_lines_opencl_ms_p50") << " ms | "
+           << ms(r, "raster_shade_ms_p50") << " ms | " << ms(r, "encode_png_ms_p50") << " ms |\n";
+    const auto http_tiles = find("http");
+    bool any_tile_http = false;
+    for (const json* h : http_tiles) {
+      if (str(h, "label").rfind("tile_", 0) != 0) continue;
+      if (!any_tile_http)
+        body << "\nThrough the server (one keep-alive connection, sequential requests; **cold** = each request a new "
+                "cache key, by a `t1` after the data: same image, tile and span both computed; **warm** = the same URL, "
+                "served from the server's tile LRU):\n\n| request | runs | p50 | p95 | bytes |\n|---|---|---|---|---|\n";
+      any_tile_http = true;
+      body << "| " << str(h, "label") << " " << code(str(h, "path")) << " | " << str(h, "reps") << " | " << ms(h, "ms_p50")
+           << " ms | " << ms(h, "ms_p95") << " ms | " << grouped(h, "bytes") << " |\n";
+    }
+    body << "\n";
+
+    // ---- 4. wrk ----------------------------------------------------------------------------------
+    body << "## 4. Cached-tile throughput (wrk over loopback)\n\n"
+            "`wrk -t2 -c50 -d5s --latency` against the running server (2 I/O threads); wrk and the server share "
+            "the machine's cores. Target: ≥ 20,000 requests/s for a tile already in the cache.\n\n"
+            "| request | requests/s | latency p50 | p90 | p99 | non-2xx/3xx | target |\n|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("wrk")) {
+      const std::string label = str(r, "label");
+      const bool is_target = label == "tile_cached_200";
+      const bool ok = dbl(r, "requests_per_s") >= 20000;
+      body << "| " << label << " | **" << grouped(r, "requests_per_s") << "** | " << ms(r, "latency_p50_ms") << " ms | "
+           << ms(r, "latency_p90_ms") << " ms | " << ms(r, "latency_p99_ms") << " ms | " << str(r, "non_2xx_3xx") << " | "
+           << (is_target ? met(ok) : "(reference)") << " |\n";
+      if (is_target) targets.push_back({"4", "cached tile throughput (wrk, 200 from the LRU)", "≥ 20,000 req/s",
+                                        grouped(r, "requests_per_s") + " req/s", ok});
+    }
+    body << "\n`tile_cached_304` sends the tile's ETag in If-None-Match (the browser's revalidation); `health` is "
+            "`GET /api/v1/health`, the server's floor for a tiny response.\n\n";
+
+    // ---- 5. peer ---------------------------------------------------------------------------------
+    body << "## 5. Peer: ClickHouse " << m("clickhouse") << "\n\n"
+            "Started by the script on 127.0.0.1 with its own data folder and stock settings (max_threads = 2), "
+            "stopped at the end. The same points (one row per TrailSet point: t, flight_id, callsign, lat, lon, alt, "
+            "speed, on_ground, plus adsb.exposed's UInt32 Mercator `mx`/`my` and their Morton key, materialised at "
+            "insert) were loaded as RowBinary over HTTP (exact float bits) into two layouts: **m** = `ORDER BY "
+            "(morton, t)` (adsb.exposed's key), **hm** = the same with `PARTITION BY` hour (the time-first layout "
+            "the ClickHouse baseline found best for windows); both merged to final parts (`OPTIMIZE … FINAL`). "
+            "With a bbox, a variant adds the Morton ranges of the tiles covering it (`+morton`), which lets the "
+            "primary key skip granules. The peer's figure is its **fastest** layout/variant. ClickHouse "
+            "times are its own `statistics.elapsed` (execution, no HTTP; the HTTP round trip is also listed); "
+            "TrailScope's are in process. Speed-up = ClickHouse p50 / TrailScope p50. Target: ≥ 3×.\n\n";
+    for (const json* r : find("peer_load"))
+      body << "- load " << code(str(r, "table") + "_*") << ": " << grouped(r, "rows") << " rows"
+           << (r->value("reused", false) ? " (tables reused from an earlier step)"
+                                         : ", insert " + num(dbl(r, "insert_total_ms") / 1000, 1) + " s (" +
+                                               grouped(r, "insert_rows_per_s") + " rows/s over HTTP), optimize + second layout " +
+                                               num((dbl(r, "optimize_ms") + dbl(r, "second_layout_ms")) / 1000, 1) + " s")
+           << "\n";
+    body << "\n### Summary (same filters, same bins; checked: counts, both histograms, time range, speed "
+            "count/min/max/mean, top callsigns identical; speed p50/p95 within 2 m/s — ours come from a 0.25 m/s "
+            "histogram, ClickHouse's from a t-digest)\n\n"
+            "| window | TrailScope p50 | TrailScope HTTP p50 | ClickHouse p50 (exec) | ClickHouse HTTP p50 | best layout | **speed-up** | results agree | target ≥ 3× |\n"
+            "|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("summary_peer")) {
+      const json* h = find1("http", {{"label", "summary_" + str(r, "window")}});
+      const double sp = dbl(r, "speedup");
+      const bool match = r->value("match", false);
+      const bool ok = sp >= 3;
+      body << "| " << str(r, "label") << " | " << ms(r, "trailscope_ms_p50") << " ms | " << ms(h, "ms_p50") << " ms | "
+           << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50") << " ms | "
+           << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | " << (match ? "yes" : "**NO — MISMATCH**") << " | "
+           << met(ok) << " |\n";
+      targets.push_back({"5", "summary vs ClickHouse, " + str(r, "label"), "≥ 3× faster", ratio(sp) + (match ? "" : " (MISMATCH)"), ok});
+    }
+    body << "\nEvery layout/variant (ClickHouse exec p50 / p95, ms):\n\n| window | layout | p50 | p95 | HTTP p50 | agree |\n|---|---|---|---|---|---|\n";
+    for (const json* r : find("summary", {{"impl", "clickhouse"}}))
+      body << "| " << str(r, "window") << " | " << str(r, "layout") << " | " << ms(r, "server_ms_p50") << " | "
+           << ms(r, "server_ms_p95") << " | " << ms(r, "wall_ms_p50") << " | " << (r->value("match", false) ? "yes" : "**NO**") << " |\n";
+    if (const json* r = find1("summary", {{"impl", "clickhouse"}, {"window", "bbox_alt_2h"}, {"layout", "hm+morton"}})) {
+      body << "\nThe SQL of one window (bbox + band + 2 h, layout hm+morton): three queries, each a scan of the "
+              "filtered rows (one aggregate with `sumMap` histograms instead was 2–3× slower on 18.16):\n\n```sql\n";
+      for (const auto& q : (*r)["sql"]) body << q.get<std::string>() << ";\n";
+      body << "```\n";
+    }
+    body << "\n### Tile (count per pixel, adsb.exposed style)\n\n"
+            "ClickHouse rasterises **points**: `GROUP BY bitShiftRight(my − y0, s) · 256 + bitShiftRight(mx − x0, s)` "
+            "over the tile's Mercator range and Morton range, returning (pixel, count) rows; its result was checked "
+            "pixel for pixel against a C++ point raster of the same points. TrailScope rasterises the **line "
+            "segments** between consecutive points (every pixel a segment crosses; many more pixels than points for "
+            "sparse data such as SO6) and then shades and PNG-encodes them: more work than the peer does. "
+            "Speed-up = ClickHouse exec p50 / TrailScope p50 (cold, and with the span cached).\n\n"
+            "| data | tile | points in tile | point pixels | TrailScope cold p50 | TrailScope span-warm p50 | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | **speed-up cold** | speed-up span-warm | agree | target ≥ 3× |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("tile_peer")) {
+      const double sp = dbl(r, "speedup_cold");
+      const bool match = r->value("match", false);
+      const bool ok = sp >= 3;
+      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "points_in_tile") << " | "
+           << grouped(r, "point_pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
+           << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "clickhouse_server_ms_p50") << " ms | "
+           << ms(r, "clickhouse_wall_ms_p50") << " ms | " << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | "
+           << ratio(dbl(r, "speedup_span_warm")) << " | " << (match ? "yes" : "**NO — MISMATCH**") << " | " << met(ok) << " |\n";
+      targets.push_back({"5", "tile vs ClickHouse, " + str(r, "dataset") + " " + str(r, "tile") + " (cold)", "≥ 3× faster",
+                         ratio(sp) + (match ? "" : " (MISMATCH)"), ok});
+    }
+    if (const json* r = find1("tile", {{"impl", "clickhouse"}, {"layout", "m"}}))
+      body << "\nThe SQL of one tile (" << str(r, "dataset") << " " << str(r, "tile") << ", layout m):\n\n```sql\n"
+           << str(r, "sql") << ";\n```\n";
+    body << "\n";
+
+    // ---- assemble ----------------------------------------------------------------------------------
+    std::ostringstream md;
+    md << "# TrailScope benchmarks\n\n"
+          "Written by `tests/bench/run_benchmarks.sh` (`make bench`) on " << m("date") << "; do not edit by hand. "
+          "Every figure is measured on the machine below in that run; latencies are medians (p50) with p95 "
+          "where given, over the number of runs shown. Raw records: `tests/bench/out/results.jsonl` (git-ignored).\n\n";
+    double load = NAN;
+    try {
+      load = std::stod(m("load_start"));
+    } catch (...) {
+    }
+    if (m("quick") == "1")
+      md << "> **Quick (smoke) run**: smaller data and fewer repetitions; not representative.\n\n";
+    if (std::isfinite(load) && load > 1.0)
+      md << "> **Noise warning**: the load average was " << m("load_start") << " at the start and " << m("load_end")
+         << " at the end of the run on " << m("cores") << " cores, i.e. other work (builds, tests) was running: "
+            "the numbers may be noisy (slower than on a quiet machine).\n\n";
+    md << "## Machine\n\n| | |\n|---|---|\n"
+       << "| CPU | " << m("cpu") << " |\n| cores | " << m("cores") << " |\n| memory | " << m("memory") << " |\n"
+       << "| OS | " << m("os") << " |\n| compiler | " << m("compiler") << " |\n| OpenCL device (clinfo -l) | " << m("opencl")
+       << " |\n| peer | ClickHouse " << m("clickhouse") << " |\n| load generator | " << m("wrk") << " |\n"
+       << "| commit | " << m("commit") << " |\n| load average (1/5/15 min) at start / end | " << m("load_start") << " / "
+       << m("load_end") << " |\n| run time of the whole script | " << m("duration_s") << " s |\n\n";
+    md << "## Targets\n\n| # | what | target | measured (p50) | |\n|---|---|---|---|---|\n";
+    int n_ok = 0;
+    for (const auto& t : targets) {
+      md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured << " | " << met(t.ok) << " |\n";
+      n_ok += t.ok;
+    }
+    md << "\n" << n_ok << " of " << targets.size() << " targets met.\n\n";
+    bool mismatch = false;
+    for (const json& r : records)
+      if (r.contains("match") && !r["match"].get<bool>()) mismatch = true;
+    if (mismatch)
+      md << "> **MISMATCH**: ClickHouse and TrailScope disagree on at least one result (see §5 and "
+            "`results.jsonl`, field `mismatch`).\n\n";
+    md << body.str();
+    md << "## Commands\n\nRun from the repository root, in this order, by `tests/bench/run_benchmarks.sh` "
+          "(ClickHouse is started and stopped by `tests/bench/clickhouse_ctl.sh`):\n\n```sh\n"
+       << commands << "```\n";
+
+    std::ofstream out(a.get("out"));
+    out << md.str();
+    if (!out) throw std::runtime_error("cannot write " + a.get("out"));
+    std::cerr << "wrote " << a.get("out") << " (" << n_ok << "/" << targets.size() << " targets met"
+              << (mismatch ? ", MISMATCH" : "") << ")\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "bench_report: " << e.what() << "\n";
+    return 1;
+  }
+}

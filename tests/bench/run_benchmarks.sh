@@ -1,0 +1,233 @@
+#!/usr/bin/env bash
+# TrailScope benchmarks, end to end: builds what it needs, generates the inputs into tests/bench/out/
+# (git-ignored), runs the C++ benchmarks, starts a private ClickHouse 18.16 (the peer) and the TrailScope
+# server on 127.0.0.1, drives them (sequential HTTP latency, wrk throughput), stops everything it started
+# (always: trap), and writes BENCHMARKS.md at the repository root.
+#
+#   bash tests/bench/run_benchmarks.sh            # or: make bench
+#
+# Environment (all optional):
+#   BUILD_DIR=build            CMake build folder (configured here if it is not yet)
+#   BENCH_OUT=tests/bench/out  where inputs, logs and raw results go
+#   BENCH_CSV_FLIGHTS=6000     demo flights written as the OpenSky CSV ingest input (≥ 5 M rows)
+#   BENCH_FLIGHTS=14000        demo flights for the summary/tile data set (≥ 10 M points)
+#   BENCH_PORT=18480           TrailScope server port;  BENCH_CH_PORT=18123 ClickHouse HTTP port (+1, +2 used)
+#   BENCH_QUICK=1              fewer repetitions and smaller data (a smoke run; not for BENCHMARKS.md)
+#   BENCH_KEEP=1               keep the generated CSVs and the ClickHouse data folder afterwards
+#   BENCH_REPORT=BENCHMARKS.md output file (relative to the repository root)
+#
+# Exit status: non-zero only when something fails (a build, a benchmark program, a server that does not
+# start). Targets that are missed are reported in BENCHMARKS.md, not turned into a failure; so are
+# mismatches between TrailScope and ClickHouse, which are also printed loudly.
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+cd "$ROOT"
+BUILD_DIR=${BUILD_DIR:-build}
+OUT=${BENCH_OUT:-tests/bench/out}
+PORT=${BENCH_PORT:-18480}
+CH_PORT=${BENCH_CH_PORT:-18123}
+CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-6000}
+FLIGHTS=${BENCH_FLIGHTS:-14000}
+REPORT=${BENCH_REPORT:-BENCHMARKS.md}
+SO6=${BENCH_SO6:-$ROOT/../shared/data/flights/traffic_europe_20180101_m3.so6.gz}
+SUM_REPS=30 CH_REPS=10 TILE_REPS=15 INGEST_REPS=3 SO6_REPS=5 WRK_SECONDS=5
+if [ "${BENCH_QUICK:-0}" = 1 ]; then
+  SUM_REPS=5 CH_REPS=2 TILE_REPS=3 INGEST_REPS=1 SO6_REPS=2 WRK_SECONDS=2
+  CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-600} FLIGHTS=${BENCH_FLIGHTS:-1500}
+fi
+
+mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
+RESULTS=$OUT/results.jsonl
+LOG=$OUT/run.log
+CMDS=$OUT/commands.txt
+META=$OUT/meta.txt
+CH_DIR=$OUT/clickhouse
+DATA_DIR=$OUT/data
+: >"$RESULTS"
+: >"$LOG"
+: >"$CMDS"
+: >"$META"
+T_START=$(date +%s)
+
+SERVER_PID=
+CH_STARTED=0
+cleanup() {
+  local rc=$?
+  if [ -n "$SERVER_PID" ] && kill -0 "$SERVER_PID" 2>/dev/null; then
+    kill -TERM "$SERVER_PID" 2>/dev/null || true
+    for _ in $(seq 1 50); do kill -0 "$SERVER_PID" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$SERVER_PID" 2>/dev/null || true
+  fi
+  SERVER_PID=
+  if [ "$CH_STARTED" = 1 ]; then bash "$ROOT/tests/bench/clickhouse_ctl.sh" stop "$CH_DIR" || true; CH_STARTED=0; fi
+  if [ "${BENCH_KEEP:-0}" != 1 ]; then
+    rm -rf "$CH_DIR" "$DATA_DIR" "$OUT"/demo_*.csv* "$OUT"/pocl-cache 2>/dev/null || true
+  fi
+  if [ $rc -ne 0 ]; then echo "run_benchmarks.sh: FAILED (exit $rc); see $LOG" >&2; fi
+  exit $rc
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+say() { printf '\n== %s\n' "$*" | tee -a "$LOG" >&2; }
+meta() { printf '%s\t%s\n' "$1" "$2" >>"$META"; }
+# Runs a command, records it (for BENCHMARKS.md), appends its stdout (JSON lines) to the results and
+# its stderr to the log (and the terminal).
+run() {
+  printf '%s\n' "$*" | sed "s#$ROOT/##g; s#$OUT#tests/bench/out#g" >>"$CMDS"
+  "$@" >>"$RESULTS" 2> >(tee -a "$LOG" >&2)
+}
+# The same for a command whose stdout is not JSON (the trailscope CLI): everything goes to the log.
+run_log() {
+  printf '%s\n' "$*" | sed "s#$ROOT/##g; s#$OUT#tests/bench/out#g" >>"$CMDS"
+  "$@" 2>&1 | tee -a "$LOG" >&2
+}
+
+# ---------------------------------------------------------------------------------------------------
+say "build ($BUILD_DIR)"
+if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
+  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release 2>&1 | tee -a "$LOG" >&2
+fi
+grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$BUILD_DIR/CMakeCache.txt" ||
+  echo "WARNING: $BUILD_DIR is not a Release build; the numbers will not mean much" | tee -a "$LOG" >&2
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target trailscope ingest_bench summary_bench tile_bench http_bench bench_report \
+  2>&1 | tail -n 5 | tee -a "$LOG" >&2
+BIN=$ROOT/$BUILD_DIR/server/trailscope
+B=$ROOT/$BUILD_DIR/tests/bench
+[ -x "$BIN" ] || { echo "missing $BIN" >&2; exit 1; }
+
+if [ ! -f web/node_modules/vega-datasets/data/airports.csv ]; then
+  say "web/node_modules missing: npm ci (the demo generator reads vega-datasets)"
+  (cd web && npm ci --no-audit --no-fund) 2>&1 | tail -n 3 | tee -a "$LOG" >&2
+fi
+[ -f "$SO6" ] || { echo "missing the Europe SO6 day: $SO6" >&2; exit 1; }
+export TRAILSCOPE_SOURCE=$ROOT
+export POCL_CACHE_DIR=$OUT/pocl-cache
+mkdir -p "$POCL_CACHE_DIR"
+
+# ---------------------------------------------------------------------------------------------------
+say "machine"
+meta date "$(date -u '+%Y-%m-%d %H:%M UTC')"
+meta cpu "$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
+meta cores "$(nproc)"
+meta memory "$(awk '/MemTotal/ {printf "%.1f GiB", $2/1048576}' /proc/meminfo)"
+meta os "$(. /etc/os-release && echo "$PRETTY_NAME") / kernel $(uname -r)"
+CXX=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")
+meta compiler "$("${CXX:-c++}" --version | head -1), $(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt") build ($BUILD_DIR)"
+meta opencl "$(clinfo -l 2>/dev/null | sed -n 's/.*Device #[0-9]*: *//p' | head -1 || true)"
+meta clickhouse "$(clickhouse-server --version 2>/dev/null | head -1 || echo 'not installed')"
+meta wrk "$(wrk --version 2>&1 | head -1 | cut -d' ' -f1-2 || true)"
+meta commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')$( [ -n "$(git -C "$ROOT" status --porcelain 2>/dev/null | head -1)" ] && echo ' + uncommitted changes')"
+meta load_start "$(cut -d' ' -f1-3 /proc/loadavg)"
+meta quick "${BENCH_QUICK:-0}"
+cat "$META" >&2
+
+# ---------------------------------------------------------------------------------------------------
+say "1. ingest"
+run "$B/ingest_bench" --file "$SO6" --label so6_europe_day --reps "$SO6_REPS"
+run "$B/ingest_bench" --make-csv "$OUT/demo_states.csv" --flights "$CSV_FLIGHTS"
+run "$B/ingest_bench" --file "$OUT/demo_states.csv" --label opensky_csv --reps "$INGEST_REPS"
+rm -f "$OUT/demo_states.csv"
+run "$B/ingest_bench" --make-csv "$OUT/demo_states.csv.gz" --flights "$CSV_FLIGHTS"
+run "$B/ingest_bench" --file "$OUT/demo_states.csv.gz" --label opensky_csv_gz --reps "$INGEST_REPS"
+rm -f "$OUT/demo_states.csv.gz"
+
+# ---------------------------------------------------------------------------------------------------
+say "2. ClickHouse (peer) on 127.0.0.1:$CH_PORT"
+CH=
+if command -v clickhouse-server >/dev/null; then
+  rm -rf "$CH_DIR"
+  CH_STARTED=1
+  bash tests/bench/clickhouse_ctl.sh start "$CH_DIR" "$CH_PORT"
+  CH=http://127.0.0.1:$CH_PORT
+else
+  echo "clickhouse-server not installed (make deps-bench): the peer comparison is skipped" | tee -a "$LOG" >&2
+fi
+CH_ARGS=()
+[ -n "$CH" ] && CH_ARGS=(--clickhouse "$CH" --ch-reps "$CH_REPS")
+
+say "3. summary over the demo day ($FLIGHTS flights)"
+run "$B/summary_bench" --flights "$FLIGHTS" --reps "$SUM_REPS" "${CH_ARGS[@]}"
+
+say "4. density tiles"
+run "$B/tile_bench" --so6 "$SO6" --demo-flights "$FLIGHTS" --reps "$TILE_REPS" "${CH_ARGS[@]}"
+
+if [ "$CH_STARTED" = 1 ]; then bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"; CH_STARTED=0; fi
+
+# ---------------------------------------------------------------------------------------------------
+say "5. the server over loopback (127.0.0.1:$PORT)"
+rm -rf "$DATA_DIR"
+run_log "$BIN" ingest "$SO6" --data-dir "$DATA_DIR" --name europe --quiet
+run_log "$BIN" demo --data-dir "$DATA_DIR" --flights "$FLIGHTS" --name demo
+printf '%s\n' "$BIN serve --data-dir $DATA_DIR --port $PORT --web-root web/dist &" | sed "s#$ROOT/##g; s#$OUT#tests/bench/out#g" >>"$CMDS"
+T0=$(date +%s%N)
+"$BIN" serve --data-dir "$DATA_DIR" --port "$PORT" --web-root web/dist >>"$LOG" 2>&1 &
+SERVER_PID=$!
+for _ in $(seq 1 1200); do
+  curl -fsS "http://127.0.0.1:$PORT/api/v1/health" >/dev/null 2>&1 && break
+  kill -0 "$SERVER_PID" 2>/dev/null || { echo "the server exited; see $LOG" >&2; exit 1; }
+  sleep 0.1
+done
+curl -fsS "http://127.0.0.1:$PORT/api/v1/health" >/dev/null
+echo "{\"bench\":\"server_start\",\"ms\":$((($(date +%s%N) - T0) / 1000000))}" >>"$RESULTS"
+
+BASE=http://127.0.0.1:$PORT
+DAY=1704067200  # the demo day (DemoOptions::day_start)
+T14=$((DAY + 14 * 3600)) T16=$((DAY + 16 * 3600))
+S=/api/v1/datasets/demo/summary
+run "$B/http_bench" --base "$BASE" --label summary_whole_day --path "$S" --reps "$SUM_REPS"
+run "$B/http_bench" --base "$BASE" --label summary_window_2h --path "$S?t0=$T14&t1=$T16" --reps "$SUM_REPS"
+run "$B/http_bench" --base "$BASE" --label summary_bbox_alt --path "$S?bbox=-90,35,-70,45&alt_min=10000&alt_max=30000" --reps "$SUM_REPS"
+run "$B/http_bench" --base "$BASE" --label summary_bbox_alt_2h \
+  --path "$S?bbox=-90,35,-70,45&alt_min=10000&alt_max=30000&t0=$T14&t1=$T16" --reps "$SUM_REPS"
+
+TILE=/tiles/europe/density/4/8/5.png
+# Cold over HTTP: every request a new cache key (t1 after the data: same image, new tile + span key).
+run "$B/http_bench" --base "$BASE" --label tile_europe_4_8_5_cold --path "$TILE" --vary t1=1600000000 --reps "$TILE_REPS"
+run "$B/http_bench" --base "$BASE" --label tile_europe_4_8_5_warm --path "$TILE" --reps "$SUM_REPS"
+
+# wrk: a tile already in the server's cache (the request above put it there).
+wrk_json() {  # label, then wrk's output on stdin → one JSON line
+  awk -v label="$1" '
+    function ms(v) { if (v ~ /us$/) return v / 1000; if (v ~ /ms$/) return v + 0; if (v ~ /s$/) return v * 1000; return v }
+    /Requests\/sec:/ { rps = $2 }
+    /Transfer\/sec:/ { tps = $2 }
+    /requests in/ { req = $1 }
+    /Non-2xx or 3xx responses:/ { non2xx = $5 }
+    /Socket errors:/ { errs = $0; sub(/.*Socket errors: */, "", errs) }
+    /^ +50%/ { p50 = ms($2) } /^ +75%/ { p75 = ms($2) } /^ +90%/ { p90 = ms($2) } /^ +99%/ { p99 = ms($2) }
+    END {
+      printf "{\"bench\":\"wrk\",\"label\":\"%s\",\"requests_per_s\":%s,\"requests\":%s,\"transfer_per_s\":\"%s\",", label, rps + 0, req + 0, tps
+      printf "\"latency_p50_ms\":%s,\"latency_p75_ms\":%s,\"latency_p90_ms\":%s,\"latency_p99_ms\":%s,\"non_2xx_3xx\":%d,\"socket_errors\":\"%s\"}\n", p50 + 0, p75 + 0, p90 + 0, p99 + 0, non2xx, errs
+    }'
+}
+if command -v wrk >/dev/null; then
+  curl -fsS -o /dev/null "$BASE$TILE"
+  ETAG=$(curl -fsS -D - -o /dev/null "$BASE$TILE" | sed -n 's/^[Ee][Tt][Aa][Gg]: *//p' | tr -d '\r')
+  echo "wrk -t2 -c50 -d${WRK_SECONDS}s --latency $BASE$TILE" >>"$CMDS"
+  wrk -t2 -c50 -d2s "$BASE$TILE" >>"$LOG" 2>&1  # warm-up
+  wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" | wrk_json tile_cached_200 >>"$RESULTS"
+  if [ -n "$ETAG" ]; then
+    echo "wrk -t2 -c50 -d${WRK_SECONDS}s --latency -H 'If-None-Match: $ETAG' $BASE$TILE" >>"$CMDS"
+    wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" |
+      wrk_json tile_cached_304 >>"$RESULTS"
+  fi
+  echo "wrk -t2 -c50 -d${WRK_SECONDS}s --latency $BASE/api/v1/health" >>"$CMDS"
+  wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE/api/v1/health" 2>>"$LOG" | tee -a "$LOG" | wrk_json health >>"$RESULTS"
+else
+  echo "wrk not installed (make deps-test): the throughput test is skipped" | tee -a "$LOG" >&2
+fi
+
+kill -TERM "$SERVER_PID" 2>/dev/null || true
+for _ in $(seq 1 50); do kill -0 "$SERVER_PID" 2>/dev/null || break; sleep 0.1; done
+kill -KILL "$SERVER_PID" 2>/dev/null || true
+SERVER_PID=
+
+# ---------------------------------------------------------------------------------------------------
+meta load_end "$(cut -d' ' -f1-3 /proc/loadavg)"
+meta duration_s "$(($(date +%s) - T_START))"
+say "report → $REPORT"
+"$B/bench_report" --results "$RESULTS" --meta "$META" --commands "$CMDS" --out "$ROOT/$REPORT"
+echo "done in $(($(date +%s) - T_START)) s; raw results in $RESULTS" >&2
