@@ -581,6 +581,9 @@ inline std::string peer_where(const trailscope::Query& q, bool with_key) {
   return w;
 }
 
+/// Mirrors the private constant of compute/src/trails/summary.cpp (a change there shows up as a mismatch).
+inline constexpr double kAltEdgeNudge = 1e-4;
+
 /// The same summary as trailscope::summarize with default options (ft altitude bins of 1000 ft, top 10),
 /// binned exactly as `ours` was (its time-histogram origin, width and bin count, its altitude bin count).
 /// Three queries, each a scan of the filtered rows: the scalars (counts, time range, speed statistics with
@@ -593,8 +596,10 @@ inline std::vector<std::string> peer_summary_sql(const std::string& table, const
   const auto tb = ours.time_histogram.counts.size(), ab = ours.altitude_histogram.counts.size();
   const std::string time_bin = "toUInt32(least(" + std::to_string(tb - 1) + ", floor((t - " +
                                lit(ours.time_histogram.t0) + ") / " + lit(ours.time_histogram.bin_seconds) + ")))";
+  // summary.cpp bins altitude a (m) as floor(max(0, a / 0.3048 / 1000 + kAltEdgeNudge)), the nudge
+  // (1e-4 of a bin) putting values a rounding error below a bin edge (FL300 = 9144 m) into the upper bin.
   const std::string alt_bin = "if(isNaN(alt), 4294967295, toUInt32(least(" + std::to_string(ab - 1) +
-                              ", floor(greatest(0, alt / 0.3048 / 1000)))))";
+                              ", floor(greatest(0, alt / 0.3048 / 1000 + " + lit(kAltEdgeNudge) + ")))))";
   const std::string known = "NOT isNaN(speed)";
   return {
       "SELECT count(), uniqExact(flight_id), min(t), max(t), countIf(" + known + "), toFloat64(minIf(speed, " + known +
@@ -634,8 +639,13 @@ inline std::vector<std::string> compare_summary(const trailscope::Summary& s, co
   }
   auto hist = [&](const std::string& what, const std::vector<std::uint64_t>& ours, const std::vector<std::uint64_t>& theirs) {
     std::size_t bad = 0;
-    for (std::size_t i = 0; i < ours.size(); ++i) bad += ours[i] != theirs[i];
-    if (bad) diff.push_back(what + ": " + std::to_string(bad) + " of " + std::to_string(ours.size()) + " bins differ");
+    std::string first;
+    for (std::size_t i = 0; i < ours.size(); ++i)
+      if (ours[i] != theirs[i] && bad++ < 4)
+        first += " [" + std::to_string(i) + "] " + std::to_string(ours[i]) + " vs " + std::to_string(theirs[i]) + ";";
+    if (bad)
+      diff.push_back(what + ": " + std::to_string(bad) + " of " + std::to_string(ours.size()) +
+                     " bins differ (trailscope vs clickhouse:" + first + " ...)");
   };
   hist("time_histogram", s.time_histogram.counts, th);
   hist("altitude_histogram", s.altitude_histogram.counts, ah);

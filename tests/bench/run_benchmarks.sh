@@ -9,12 +9,13 @@
 # Environment (all optional):
 #   BUILD_DIR=build            CMake build folder (configured here if it is not yet)
 #   BENCH_OUT=tests/bench/out  where inputs, logs and raw results go
-#   BENCH_CSV_FLIGHTS=6000     demo flights written as the OpenSky CSV ingest input (≥ 5 M rows)
+#   BENCH_CSV_FLIGHTS=6500     demo flights written as the OpenSky CSV ingest input (≥ 5 M rows)
 #   BENCH_FLIGHTS=14000        demo flights for the summary/tile data set (≥ 10 M points)
 #   BENCH_PORT=18480           TrailScope server port;  BENCH_CH_PORT=18123 ClickHouse HTTP port (+1, +2 used)
 #   BENCH_QUICK=1              fewer repetitions and smaller data (a smoke run; not for BENCHMARKS.md)
 #   BENCH_KEEP=1               keep the generated CSVs and the ClickHouse data folder afterwards
-#   BENCH_REPORT=BENCHMARKS.md output file (relative to the repository root)
+#   BENCH_REPORT=BENCHMARKS.md output file (relative to the repository root; a quick run defaults to
+#                              tests/bench/out/BENCHMARKS.quick.md)
 #
 # Exit status: non-zero only when something fails (a build, a benchmark program, a server that does not
 # start). Targets that are missed are reported in BENCHMARKS.md, not turned into a failure; so are
@@ -27,9 +28,11 @@ BUILD_DIR=${BUILD_DIR:-build}
 OUT=${BENCH_OUT:-tests/bench/out}
 PORT=${BENCH_PORT:-18480}
 CH_PORT=${BENCH_CH_PORT:-18123}
-CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-6000}
+CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-6500}
 FLIGHTS=${BENCH_FLIGHTS:-14000}
 REPORT=${BENCH_REPORT:-BENCHMARKS.md}
+# A quick (smoke) run never overwrites the real report unless asked to.
+[ "${BENCH_QUICK:-0}" = 1 ] && [ -z "${BENCH_REPORT:-}" ] && REPORT=tests/bench/out/BENCHMARKS.quick.md
 SO6=${BENCH_SO6:-$ROOT/../shared/data/flights/traffic_europe_20180101_m3.so6.gz}
 SUM_REPS=30 CH_REPS=10 TILE_REPS=15 INGEST_REPS=3 SO6_REPS=5 WRK_SECONDS=5
 if [ "${BENCH_QUICK:-0}" = 1 ]; then
@@ -71,17 +74,28 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-say() { printf '\n== %s\n' "$*" | tee -a "$LOG" >&2; }
+say() { printf '\n== [%4ds] %s\n' "$(($(date +%s) - T_START))" "$*" | tee -a "$LOG" >&2; }
 meta() { printf '%s\t%s\n' "$1" "$2" >>"$META"; }
+# Records a command line for BENCHMARKS.md: paths relative to the repository root, arguments with
+# shell-special characters single-quoted, so that it can be pasted into a shell.
+record() {
+  local out='' a
+  for a in "$@"; do
+    a=${a//$OUT/tests/bench/out}
+    a=${a//$ROOT\//}
+    if [[ $a =~ ^[A-Za-z0-9_./:=,@+%-]+$ ]]; then out+="$a "; else out+="'${a//\'/\'\\\'\'}' "; fi
+  done
+  printf '%s\n' "${out% }" >>"$CMDS"
+}
 # Runs a command, records it (for BENCHMARKS.md), appends its stdout (JSON lines) to the results and
 # its stderr to the log (and the terminal).
 run() {
-  printf '%s\n' "$*" | sed "s#$ROOT/##g; s#$OUT#tests/bench/out#g" >>"$CMDS"
+  record "$@"
   "$@" >>"$RESULTS" 2> >(tee -a "$LOG" >&2)
 }
 # The same for a command whose stdout is not JSON (the trailscope CLI): everything goes to the log.
 run_log() {
-  printf '%s\n' "$*" | sed "s#$ROOT/##g; s#$OUT#tests/bench/out#g" >>"$CMDS"
+  record "$@"
   "$@" 2>&1 | tee -a "$LOG" >&2
 }
 
@@ -105,7 +119,9 @@ fi
 [ -f "$SO6" ] || { echo "missing the Europe SO6 day: $SO6" >&2; exit 1; }
 export TRAILSCOPE_SOURCE=$ROOT
 export POCL_CACHE_DIR=$OUT/pocl-cache
+rm -rf "$POCL_CACHE_DIR"
 mkdir -p "$POCL_CACHE_DIR"
+echo "export TRAILSCOPE_SOURCE=\$PWD POCL_CACHE_DIR=\$PWD/tests/bench/out/pocl-cache  # empty at the start" >>"$CMDS"
 
 # ---------------------------------------------------------------------------------------------------
 say "machine"
@@ -117,7 +133,7 @@ meta os "$(. /etc/os-release && echo "$PRETTY_NAME") / kernel $(uname -r)"
 CXX=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")
 meta compiler "$("${CXX:-c++}" --version | head -1), $(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt") build ($BUILD_DIR)"
 meta opencl "$(clinfo -l 2>/dev/null | sed -n 's/.*Device #[0-9]*: *//p' | head -1 || true)"
-meta clickhouse "$(clickhouse-server --version 2>/dev/null | head -1 || echo 'not installed')"
+meta clickhouse "$(dpkg-query -W -f='${Version}' clickhouse-server 2>/dev/null || echo 'not installed')"
 meta wrk "$(wrk --version 2>&1 | head -1 | cut -d' ' -f1-2 || true)"
 meta commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')$( [ -n "$(git -C "$ROOT" status --porcelain 2>/dev/null | head -1)" ] && echo ' + uncommitted changes')"
 meta load_start "$(cut -d' ' -f1-3 /proc/loadavg)"
@@ -140,6 +156,7 @@ CH=
 if command -v clickhouse-server >/dev/null; then
   rm -rf "$CH_DIR"
   CH_STARTED=1
+  record bash tests/bench/clickhouse_ctl.sh start "$CH_DIR" "$CH_PORT"
   bash tests/bench/clickhouse_ctl.sh start "$CH_DIR" "$CH_PORT"
   CH=http://127.0.0.1:$CH_PORT
 else
@@ -154,14 +171,19 @@ run "$B/summary_bench" --flights "$FLIGHTS" --reps "$SUM_REPS" "${CH_ARGS[@]}"
 say "4. density tiles"
 run "$B/tile_bench" --so6 "$SO6" --demo-flights "$FLIGHTS" --reps "$TILE_REPS" "${CH_ARGS[@]}"
 
-if [ "$CH_STARTED" = 1 ]; then bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"; CH_STARTED=0; fi
+if [ "$CH_STARTED" = 1 ]; then
+  record bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"
+  bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"
+  CH_STARTED=0
+fi
 
 # ---------------------------------------------------------------------------------------------------
 say "5. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"
 run_log "$BIN" ingest "$SO6" --data-dir "$DATA_DIR" --name europe --quiet
 run_log "$BIN" demo --data-dir "$DATA_DIR" --flights "$FLIGHTS" --name demo
-printf '%s\n' "$BIN serve --data-dir $DATA_DIR --port $PORT --web-root web/dist &" | sed "s#$ROOT/##g; s#$OUT#tests/bench/out#g" >>"$CMDS"
+record "$BIN" serve --data-dir "$DATA_DIR" --port "$PORT" --web-root web/dist
+sed -i '$ s/$/ \&  # stopped by PID at the end/' "$CMDS"
 T0=$(date +%s%N)
 "$BIN" serve --data-dir "$DATA_DIR" --port "$PORT" --web-root web/dist >>"$LOG" 2>&1 &
 SERVER_PID=$!
@@ -206,15 +228,15 @@ wrk_json() {  # label, then wrk's output on stdin → one JSON line
 if command -v wrk >/dev/null; then
   curl -fsS -o /dev/null "$BASE$TILE"
   ETAG=$(curl -fsS -D - -o /dev/null "$BASE$TILE" | sed -n 's/^[Ee][Tt][Aa][Gg]: *//p' | tr -d '\r')
-  echo "wrk -t2 -c50 -d${WRK_SECONDS}s --latency $BASE$TILE" >>"$CMDS"
+  record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE$TILE"
   wrk -t2 -c50 -d2s "$BASE$TILE" >>"$LOG" 2>&1  # warm-up
   wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" | wrk_json tile_cached_200 >>"$RESULTS"
   if [ -n "$ETAG" ]; then
-    echo "wrk -t2 -c50 -d${WRK_SECONDS}s --latency -H 'If-None-Match: $ETAG' $BASE$TILE" >>"$CMDS"
+    record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" "$BASE$TILE"
     wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" |
       wrk_json tile_cached_304 >>"$RESULTS"
   fi
-  echo "wrk -t2 -c50 -d${WRK_SECONDS}s --latency $BASE/api/v1/health" >>"$CMDS"
+  record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE/api/v1/health"
   wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE/api/v1/health" 2>>"$LOG" | tee -a "$LOG" | wrk_json health >>"$RESULTS"
 else
   echo "wrk not installed (make deps-test): the throughput test is skipped" | tee -a "$LOG" >&2

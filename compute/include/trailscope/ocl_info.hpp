@@ -39,12 +39,12 @@ void opencl_warm_up();
 /// Which path each compute op took so far in this process (the "log which path ran" of the dispatch
 /// convention: counters rather than log lines, so that /health and tests can read them).
 struct OpPathStats {
-  std::string op;                     ///< op name, e.g. "density_lines"
-  std::uint64_t opencl = 0;           ///< runs on the OpenCL device
-  std::uint64_t cpu = 0;              ///< runs of the C++ reference (chosen or fallen back to)
-  std::uint64_t fallbacks = 0;        ///< of `cpu`: runs where OpenCL was chosen but could not run
-  std::string last_path;              ///< "opencl" or "cpu"; empty before the first run
-  std::string last_fallback_reason;   ///< why the last fallback happened
+  std::string op;                    ///< op name, e.g. "density_lines"
+  std::uint64_t opencl = 0;          ///< runs on the OpenCL device
+  std::uint64_t cpu = 0;             ///< runs of the C++ reference (chosen or fallen back to)
+  std::uint64_t fallbacks = 0;       ///< of `cpu`: runs where OpenCL was chosen but could not run
+  std::string last_path;             ///< "opencl" or "cpu"; empty before the first run
+  std::string last_fallback_reason;  ///< why the last fallback happened
 };
 /// Counters of one op (all zero if it never ran).
 OpPathStats op_path_stats(std::string_view op);

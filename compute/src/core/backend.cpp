@@ -39,7 +39,8 @@ std::atomic<Backend>& default_slot() noexcept {
 Backend parse_backend(std::string_view text, const std::string& param) {
   Backend b{};
   if (!parse_backend_noexcept(text, b))
-    throw invalid_argument(param, "unknown backend '" + std::string(text) + "' (expected cpu, opencl or auto)");
+    throw invalid_argument(param,
+                           "unknown backend '" + std::string(text) + "' (expected cpu, opencl or auto)");
   return b;
 }
 
@@ -55,9 +56,13 @@ const char* to_string(Backend b) noexcept {
   return "auto";
 }
 
-Backend default_backend() noexcept { return default_slot().load(std::memory_order_relaxed); }
+Backend default_backend() noexcept {
+  return default_slot().load(std::memory_order_relaxed);
+}
 
-void set_default_backend(Backend b) noexcept { default_slot().store(b, std::memory_order_relaxed); }
+void set_default_backend(Backend b) noexcept {
+  default_slot().store(b, std::memory_order_relaxed);
+}
 
 // Read on every call (not cached) so that a test can switch strict mode on for its own scope with
 // setenv(); getenv is safe to call concurrently as long as nobody modifies the environment meanwhile.

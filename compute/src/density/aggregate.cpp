@@ -11,17 +11,19 @@ AggregateResult aggregate(const TrailSet& trails, const Query& query, const Canv
                           const AggregateOptions& options) {
   const double r = options.kernel_radius;
   if (!(r >= 0.0) || r > limits::kMaxKernelRadiusPx)
-    throw invalid_argument("kernel_radius", "kernel radius must be in 0.." + std::to_string(limits::kMaxKernelRadiusPx) +
-                                                " px");
+    throw invalid_argument(
+        "kernel_radius", "kernel radius must be in 0.." + std::to_string(limits::kMaxKernelRadiusPx) + " px");
   const int grow = static_cast<int>(std::ceil(r));
   const Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
-  const LineSegments segments = prepare_line_segments(trails, query, work, options.value, options.max_gap_seconds);
+  const LineSegments segments =
+      prepare_line_segments(trails, query, work, options.value, options.max_gap_seconds);
   const Aggregate agg = density_lines(segments, options.backend);
   AggregateResult out;
   out.segments = segments.size();
   out.path = agg.path;
   out.max_count = max_count_inner(agg, work.margin());
-  out.raster = crop(r > 0.0 ? kde_smooth(agg, options.value, r) : to_raster(agg, options.value), work.margin());
+  out.raster =
+      crop(r > 0.0 ? kde_smooth(agg, options.value, r) : to_raster(agg, options.value), work.margin());
   return out;
 }
 

@@ -23,19 +23,25 @@ void box_units(const geo::LonLatBox& box, double& xw, double& xe, double& yn, do
     throw invalid_argument("bbox", "bounding box needs -90 <= south < north <= 90");
   double span = box.east - box.west;
   if (span <= 0) span += 360.0;
-  if (span <= 0 || span > 360.0) throw invalid_argument("bbox", "bounding box longitudes span nothing or more than 360°");
+  if (span <= 0 || span > 360.0)
+    throw invalid_argument("bbox", "bounding box longitudes span nothing or more than 360°");
   xw = geo::lon_to_unit_x(box.west) * kWorld;
   xe = xw + span / 360.0 * kWorld;
   yn = geo::lat_to_unit_y(box.north) * kWorld;
   ys = geo::lat_to_unit_y(box.south) * kWorld;
-  if (!(ys > yn)) throw invalid_argument("bbox", "bounding box is empty after clamping latitudes to ±85.0511°");
+  if (!(ys > yn))
+    throw invalid_argument("bbox", "bounding box is empty after clamping latitudes to ±85.0511°");
 }
 
 }  // namespace
 
 Canvas::Canvas(std::int64_t origin_x, std::int64_t origin_y, std::int64_t pixel_units, int width, int height,
                int margin)
-    : origin_x_(origin_x), origin_y_(origin_y), pixel_units_(pixel_units), width_(width), height_(height),
+    : origin_x_(origin_x),
+      origin_y_(origin_y),
+      pixel_units_(pixel_units),
+      width_(width),
+      height_(height),
       margin_(margin) {
   if (width < 1 || width > kMaxCanvasPx)
     throw invalid_argument("width", "canvas width " + std::to_string(width) + " px is outside 1.." +
@@ -57,11 +63,12 @@ Canvas::Canvas(std::int64_t origin_x, std::int64_t origin_y, std::int64_t pixel_
 Canvas Canvas::for_tile(const geo::TileId& tile, int size_px, int margin_px) {
   geo::validate_tile(tile);
   if (size_px < 1 || size_px > 4096 || (size_px & (size_px - 1)) != 0)
-    throw invalid_argument("size", "tile size " + std::to_string(size_px) + " px is not a power of two in 1..4096");
+    throw invalid_argument("size",
+                           "tile size " + std::to_string(size_px) + " px is not a power of two in 1..4096");
   const std::int64_t units = geo::tile_size_units(tile.z);
   if (units % size_px != 0)
-    throw invalid_argument("size", "tile size " + std::to_string(size_px) + " px is finer than the 32-bit grid at zoom " +
-                                       std::to_string(tile.z));
+    throw invalid_argument("size", "tile size " + std::to_string(size_px) +
+                                       " px is finer than the 32-bit grid at zoom " + std::to_string(tile.z));
   if (margin_px < 0 || margin_px > kMaxMarginPx)
     throw invalid_argument("margin", "margin " + std::to_string(margin_px) + " px is outside 0.." +
                                          std::to_string(kMaxMarginPx));
@@ -76,12 +83,14 @@ Canvas Canvas::for_bbox(const geo::LonLatBox& box, int width_px, int margin_px) 
   if (width_px < 1 || width_px > kMaxCanvasPx)
     throw invalid_argument("width", "canvas width " + std::to_string(width_px) + " px is outside 1.." +
                                         std::to_string(kMaxCanvasPx));
-  const std::int64_t p = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((xe - xw) / width_px)));
-  if (p > kMaxPixelUnits) throw invalid_argument("width", "canvas is too narrow for this box (under 16 px per world)");
+  const std::int64_t p =
+      std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((xe - xw) / width_px)));
+  if (p > kMaxPixelUnits)
+    throw invalid_argument("width", "canvas is too narrow for this box (under 16 px per world)");
   const auto height = static_cast<std::int64_t>(std::ceil((ys - yn) / static_cast<double>(p)));
   if (height > kMaxCanvasPx)
-    throw invalid_argument("height", "the box needs a canvas " + std::to_string(height) + " px high at this width (max " +
-                                         std::to_string(kMaxCanvasPx) + ")");
+    throw invalid_argument("height", "the box needs a canvas " + std::to_string(height) +
+                                         " px high at this width (max " + std::to_string(kMaxCanvasPx) + ")");
   const auto ox = static_cast<std::int64_t>(std::floor(xw));
   const auto oy = static_cast<std::int64_t>(std::floor(yn));
   return Canvas(ox - margin_px * p, oy - margin_px * p, p, width_px + 2 * margin_px,
@@ -90,7 +99,8 @@ Canvas Canvas::for_bbox(const geo::LonLatBox& box, int width_px, int margin_px) 
 
 Canvas Canvas::for_zoom(const geo::LonLatBox& box, int z, int tile_px, int margin_px) {
   if (tile_px < 1 || tile_px > 4096 || (tile_px & (tile_px - 1)) != 0)
-    throw invalid_argument("size", "tile size " + std::to_string(tile_px) + " px is not a power of two in 1..4096");
+    throw invalid_argument("size",
+                           "tile size " + std::to_string(tile_px) + " px is not a power of two in 1..4096");
   const int log2_tile = std::countr_zero(static_cast<unsigned>(tile_px));
   if (z < 0 || z + log2_tile > 32)
     throw invalid_argument("z", "zoom " + std::to_string(z) + " has no whole-unit pixel grid at " +
@@ -98,18 +108,19 @@ Canvas Canvas::for_zoom(const geo::LonLatBox& box, int z, int tile_px, int margi
   double xw, xe, yn, ys;
   box_units(box, xw, xe, yn, ys);
   const std::int64_t p = std::int64_t{1} << (32 - z - log2_tile);
-  if (p > kMaxPixelUnits) throw invalid_argument("z", "zoom " + std::to_string(z) + " is too coarse for a canvas");
+  if (p > kMaxPixelUnits)
+    throw invalid_argument("z", "zoom " + std::to_string(z) + " is too coarse for a canvas");
   const auto x0 = static_cast<std::int64_t>(std::floor(xw / p));
   const auto x1 = static_cast<std::int64_t>(std::ceil(xe / p));
   const auto y0 = static_cast<std::int64_t>(std::floor(yn / p));
   const auto y1 = static_cast<std::int64_t>(std::ceil(ys / p));
   const std::int64_t w = std::max<std::int64_t>(1, x1 - x0), h = std::max<std::int64_t>(1, y1 - y0);
   if (w + 2 * margin_px > kMaxCanvasPx)
-    throw invalid_argument("width", "the box is " + std::to_string(w) + " px wide at zoom " + std::to_string(z) +
-                                        " (max " + std::to_string(kMaxCanvasPx) + ")");
+    throw invalid_argument("width", "the box is " + std::to_string(w) + " px wide at zoom " +
+                                        std::to_string(z) + " (max " + std::to_string(kMaxCanvasPx) + ")");
   if (h + 2 * margin_px > kMaxCanvasPx)
-    throw invalid_argument("height", "the box is " + std::to_string(h) + " px high at zoom " + std::to_string(z) +
-                                         " (max " + std::to_string(kMaxCanvasPx) + ")");
+    throw invalid_argument("height", "the box is " + std::to_string(h) + " px high at zoom " +
+                                         std::to_string(z) + " (max " + std::to_string(kMaxCanvasPx) + ")");
   return Canvas((x0 - margin_px) * p, (y0 - margin_px) * p, p, static_cast<int>(w) + 2 * margin_px,
                 static_cast<int>(h) + 2 * margin_px, margin_px);
 }
@@ -137,9 +148,9 @@ geo::LonLatBox Canvas::bounds() const {
 }
 
 std::string Canvas::describe() const {
-  return "origin=(" + std::to_string(origin_x_) + "," + std::to_string(origin_y_) + ") px=" +
-         std::to_string(pixel_units_) + " size=" + std::to_string(width_) + "x" + std::to_string(height_) +
-         " margin=" + std::to_string(margin_);
+  return "origin=(" + std::to_string(origin_x_) + "," + std::to_string(origin_y_) +
+         ") px=" + std::to_string(pixel_units_) + " size=" + std::to_string(width_) + "x" +
+         std::to_string(height_) + " margin=" + std::to_string(margin_);
 }
 
 }  // namespace trailscope::density

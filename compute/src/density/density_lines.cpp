@@ -41,7 +41,9 @@ constexpr i128 ceil_div(i128 a, i128 b) {  // b > 0
   const i128 q = a / b;
   return (a % b != 0 && a > 0) ? q + 1 : q;
 }
-constexpr int sign(std::int64_t v) { return (v > 0) - (v < 0); }
+constexpr int sign(std::int64_t v) {
+  return (v > 0) - (v < 0);
+}
 
 // An event time along the segment, t = num/den (den > 0), with the order of events at equal t: flag 0
 // for a crossing in the positive direction (it happens AT t: the boundary belongs to the next pixel),
@@ -64,13 +66,28 @@ std::int64_t cell_at(std::int64_t a, std::int64_t delta, int s, std::int64_t p, 
   return static_cast<std::int64_t>(floor_div(pos, size));
 }
 
+// The pixel size, with a shift for the usual power-of-two case: a 64-bit division costs tens of cycles
+// and four of them per segment were most of the preparation time of a tile.
+struct Grid {
+  std::int64_t p;
+  int shift;  // log2(p), or -1
+  explicit Grid(std::int64_t units)
+      : p(units),
+        shift(std::has_single_bit(static_cast<std::uint64_t>(units))
+                  ? std::countr_zero(static_cast<std::uint64_t>(units))
+                  : -1) {}
+  std::int64_t cell(std::int64_t a) const { return shift >= 0 ? a >> shift : floor_div(a, p); }  // >> floors
+};
+
 // Stores the walk of segment a → b (canvas-relative units) from its first pixel inside the canvas.
-void prepare_one(LineSegments& out, std::int64_t p, std::int64_t ax, std::int64_t ay, std::int64_t bx,
+void prepare_one(LineSegments& out, const Grid& grid, std::int64_t ax, std::int64_t ay, std::int64_t bx,
                  std::int64_t by, bool skip_first, std::int32_t value, bool has_value) {
   const int w = out.width, h = out.height;
-  const std::int64_t cax = floor_div(ax, p), cay = floor_div(ay, p);
-  const std::int64_t cbx = floor_div(bx, p), cby = floor_div(by, p);
-  if (std::max(cax, cbx) < 0 || std::min(cax, cbx) > w - 1 || std::max(cay, cby) < 0 || std::min(cay, cby) > h - 1)
+  const std::int64_t p = grid.p;
+  const std::int64_t cax = grid.cell(ax), cay = grid.cell(ay);
+  const std::int64_t cbx = grid.cell(bx), cby = grid.cell(by);
+  if (std::max(cax, cbx) < 0 || std::min(cax, cbx) > w - 1 || std::max(cay, cby) < 0 ||
+      std::min(cay, cby) > h - 1)
     return;
   const std::int64_t dx = bx - ax, dy = by - ay;
   const int sx = sign(dx), sy = sign(dy);
@@ -84,10 +101,14 @@ void prepare_one(LineSegments& out, std::int64_t p, std::int64_t ax, std::int64_
     // monotone in both axes, so it cannot come back).
     skip_first = false;  // the shared first pixel is outside the canvas
     Key kx, ky;
-    if (cax < 0) kx = Key{-i128{ax}, i128{dx}, 0};                          // sx > 0: enter column 0 at x = 0
-    else if (cax > w - 1) kx = Key{i128{ax} - i128{w} * p, i128{adx}, 1};  // sx < 0: enter column w-1 after x = w·p
-    if (cay < 0) ky = Key{-i128{ay}, i128{dy}, 0};
-    else if (cay > h - 1) ky = Key{i128{ay} - i128{h} * p, i128{ady}, 1};
+    if (cax < 0)
+      kx = Key{-i128{ax}, i128{dx}, 0};  // sx > 0: enter column 0 at x = 0
+    else if (cax > w - 1)
+      kx = Key{i128{ax} - i128{w} * p, i128{adx}, 1};  // sx < 0: enter column w-1 after x = w·p
+    if (cay < 0)
+      ky = Key{-i128{ay}, i128{dy}, 0};
+    else if (cay > h - 1)
+      ky = Key{i128{ay} - i128{h} * p, i128{ady}, 1};
     const Key k = less(kx, ky) ? ky : kx;
     i = cell_at(ax, dx, sx, p, k);
     j = cell_at(ay, dy, sy, p, k);
@@ -116,7 +137,8 @@ void prepare_one(LineSegments& out, std::int64_t p, std::int64_t ax, std::int64_
 
 std::int32_t to_fixed(double v) {
   const double f = std::nearbyint(v * kValueScale);
-  constexpr double lo = std::numeric_limits<std::int32_t>::min(), hi = std::numeric_limits<std::int32_t>::max();
+  constexpr double lo = std::numeric_limits<std::int32_t>::min(),
+                   hi = std::numeric_limits<std::int32_t>::max();
   return static_cast<std::int32_t>(std::clamp(f, lo, hi));
 }
 
@@ -135,7 +157,8 @@ DensityValue parse_density_value(std::string_view text, const std::string& param
   if (text == "count") return DensityValue::count;
   if (text == "altitude") return DensityValue::altitude;
   if (text == "speed") return DensityValue::speed;
-  throw invalid_argument(param, "unknown density value '" + std::string(text) + "' (expected count, altitude or speed)");
+  throw invalid_argument(
+      param, "unknown density value '" + std::string(text) + "' (expected count, altitude or speed)");
 }
 
 const char* to_string(DensityValue v) noexcept {
@@ -150,7 +173,9 @@ const char* to_string(DensityValue v) noexcept {
   return "count";
 }
 
-const char* to_string(ComputePath p) noexcept { return p == ComputePath::opencl ? "opencl" : "cpu"; }
+const char* to_string(ComputePath p) noexcept {
+  return p == ComputePath::opencl ? "opencl" : "cpu";
+}
 
 LineSegments LineSegments::for_canvas(const Canvas& canvas, bool with_value) {
   LineSegments s;
@@ -164,8 +189,10 @@ void append_segment(LineSegments& out, const Canvas& canvas, MercPoint a, MercPo
                     double value) {
   // The short way round: unwrap b next to a.
   const std::int64_t dx = b.x - a.x;
-  if (dx > kHalfWorld) b.x -= kWorld;
-  else if (dx < -kHalfWorld) b.x += kWorld;
+  if (dx > kHalfWorld)
+    b.x -= kWorld;
+  else if (dx < -kHalfWorld)
+    b.x += kWorld;
   const std::int64_t min_x = std::min(a.x, b.x), max_x = std::max(a.x, b.x);
   const std::int64_t ox = canvas.origin_x(), oy = canvas.origin_y(), end_x = canvas.end_x();
   if (std::max(a.y, b.y) < oy || std::min(a.y, b.y) >= canvas.end_y()) return;
@@ -174,16 +201,17 @@ void append_segment(LineSegments& out, const Canvas& canvas, MercPoint a, MercPo
   const std::int64_t k_hi = floor_div(end_x - 1 - min_x, kWorld);
   const bool has_value = out.with_value && !std::isnan(value);
   const std::int32_t fixed = has_value ? to_fixed(value) : 0;
+  const Grid grid(canvas.pixel_units());
   for (std::int64_t k = k_lo; k <= k_hi; ++k) {
     const std::int64_t shift = k * kWorld - ox;
-    prepare_one(out, canvas.pixel_units(), a.x + shift, a.y - oy, b.x + shift, b.y - oy, continues_run, fixed,
-                has_value);
+    prepare_one(out, grid, a.x + shift, a.y - oy, b.x + shift, b.y - oy, continues_run, fixed, has_value);
   }
 }
 
 LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, const Canvas& canvas,
                                    DensityValue value, double max_gap_seconds) {
-  if (!(max_gap_seconds > 0)) throw invalid_argument("max_gap", "the largest time gap of a drawn segment must be > 0 s");
+  if (!(max_gap_seconds > 0))
+    throw invalid_argument("max_gap", "the largest time gap of a drawn segment must be > 0 s");
   const bool with_value = value != DensityValue::count;
   const auto& flights = trails.flights();
   const PointColumns& pts = trails.points();
@@ -216,7 +244,8 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
       const bool ok = query.matches_point(pts, i);
       const bool draw = ok && prev_ok && pts.t[i] - pts.t[i - 1] <= max_gap_seconds;
       if (draw) {
-        const double v = values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
+        const double v =
+            values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
         append_segment(out, canvas, MercPoint{mx[i - 1], my[i - 1]}, MercPoint{mx[i], my[i]}, prev_drawn, v);
       }
       prev_drawn = draw;
@@ -276,7 +305,8 @@ std::uint64_t Aggregate::total_count() const {
 }
 
 double Aggregate::mean(int x, int y) const {
-  const std::size_t idx = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+  const std::size_t idx =
+      static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
   if (!with_value || value_count[idx] == 0) return std::numeric_limits<double>::quiet_NaN();
   return static_cast<double>(value_sum[idx]) / kValueScale / value_count[idx];
 }
@@ -287,7 +317,8 @@ bool Aggregate::same_numbers(const Aggregate& o) const {
 }
 
 Aggregate density_lines(const LineSegments& segments, Backend backend) {
-  if (segments.width < 1 || segments.width > kMaxCanvasPx || segments.height < 1 || segments.height > kMaxCanvasPx)
+  if (segments.width < 1 || segments.width > kMaxCanvasPx || segments.height < 1 ||
+      segments.height > kMaxCanvasPx)
     throw invalid_argument("segments", "segments were not prepared for a valid canvas");
   if (segments.cells.size() % 6 != 0 || segments.walk.size() != segments.size() * 3)
     throw invalid_argument("segments", "malformed prepared segments (walk/cells sizes disagree)");
@@ -296,7 +327,8 @@ Aggregate density_lines(const LineSegments& segments, Backend backend) {
 
   Aggregate out;
   // Only `auto` asks whether OpenCL would gain, so that `cpu` never initialises the OpenCL runtime.
-  const bool worth = backend == Backend::auto_ && segments.size() >= kAutoOpenClMinSegments && ocl::device_is_gpu();
+  const bool worth =
+      backend == Backend::auto_ && segments.size() >= kAutoOpenClMinSegments && ocl::device_is_gpu();
   const ocl::Path path = ocl::dispatch(
       "density_lines", backend, worth, [&] { return ocl::density_lines_ocl(segments, out); },
       [&] { out = density_lines_ref(segments); });

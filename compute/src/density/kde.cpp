@@ -1,5 +1,6 @@
 #include "trailscope/density/kde.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -8,30 +9,41 @@
 namespace trailscope::density {
 namespace {
 
-// One separable pass over a row-major grid: out[y][x] = Σ_k w[k] · in[y][x + k − r] (horizontal) or the
-// same along columns; outside the grid counts as 0.
-void convolve(const std::vector<double>& in, std::vector<double>& out, int width, int height,
-              const std::vector<double>& w, bool horizontal) {
+// The two separable passes over a row-major grid, outside the grid counting as 0:
+//   horizontal: tmp[y][x] = Σ_k w[k] · in[y][x + k − r],   vertical: out[y][x] = Σ_k w[k] · tmp[y + k −
+//   r][x],
+// each sum taken in ascending k (so the result does not depend on the loop order below). Rows that
+// are all zero are skipped: density grids are mostly empty.
+std::vector<double> smooth(const std::vector<double>& in, int width, int height,
+                           const std::vector<double>& w) {
   const int r = static_cast<int>(w.size() / 2);
-  out.assign(in.size(), 0.0);
+  const auto row = [&](int y) { return static_cast<std::size_t>(y) * static_cast<std::size_t>(width); };
+  std::vector<double> tmp(in.size(), 0.0);
+  std::vector<char> nonzero(static_cast<std::size_t>(height), 0);
   for (int y = 0; y < height; ++y) {
+    const double* src = &in[row(y)];
+    if (std::all_of(src, src + width, [](double v) { return v == 0.0; })) continue;
+    nonzero[static_cast<std::size_t>(y)] = 1;
+    double* dst = &tmp[row(y)];
     for (int x = 0; x < width; ++x) {
-      double s = 0.0;
-      for (int k = -r; k <= r; ++k) {
-        const int xx = horizontal ? x + k : x, yy = horizontal ? y : y + k;
-        if (xx < 0 || xx >= width || yy < 0 || yy >= height) continue;
-        s += w[k + r] * in[static_cast<std::size_t>(yy) * width + xx];
-      }
-      out[static_cast<std::size_t>(y) * width + x] = s;
+      const int k0 = std::max(-r, -x), k1 = std::min(r, width - 1 - x);
+      double sum = 0.0;
+      for (int k = k0; k <= k1; ++k) sum += w[static_cast<std::size_t>(k + r)] * src[x + k];
+      dst[x] = sum;
     }
   }
-}
-
-std::vector<double> smooth(std::vector<double> grid, int width, int height, const std::vector<double>& w) {
-  std::vector<double> tmp;
-  convolve(grid, tmp, width, height, w, true);
-  convolve(tmp, grid, width, height, w, false);
-  return grid;
+  std::vector<double> out(in.size(), 0.0);
+  for (int y = 0; y < height; ++y) {
+    double* dst = &out[row(y)];
+    const int k0 = std::max(-r, -y), k1 = std::min(r, height - 1 - y);
+    for (int k = k0; k <= k1; ++k) {
+      if (!nonzero[static_cast<std::size_t>(y + k)]) continue;  // adds exact zeros
+      const double wk = w[static_cast<std::size_t>(k + r)];
+      const double* src = &tmp[row(y + k)];
+      for (int x = 0; x < width; ++x) dst[x] += wk * src[x];
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -61,15 +73,17 @@ Raster kde_smooth(const Aggregate& a, DensityValue value, double radius_px) {
   out.values.resize(n);
   constexpr float nan = std::numeric_limits<float>::quiet_NaN();
   if (value == DensityValue::count) {
-    const std::vector<double> c = smooth(std::vector<double>(a.count.begin(), a.count.end()), a.width, a.height, w);
+    const std::vector<double> c =
+        smooth(std::vector<double>(a.count.begin(), a.count.end()), a.width, a.height, w);
     for (std::size_t i = 0; i < n; ++i) out.values[i] = c[i] > 0.0 ? static_cast<float>(c[i]) : nan;
     return out;
   }
   if (!a.with_value)
-    throw invalid_argument("value", std::string("the aggregate holds no values to average for '") + to_string(value) + "'");
+    throw invalid_argument(
+        "value", std::string("the aggregate holds no values to average for '") + to_string(value) + "'");
   std::vector<double> sums(n);
   for (std::size_t i = 0; i < n; ++i) sums[i] = static_cast<double>(a.value_sum[i]) / kValueScale;
-  const std::vector<double> s = smooth(std::move(sums), a.width, a.height, w);
+  const std::vector<double> s = smooth(sums, a.width, a.height, w);
   const std::vector<double> c =
       smooth(std::vector<double>(a.value_count.begin(), a.value_count.end()), a.width, a.height, w);
   for (std::size_t i = 0; i < n; ++i) out.values[i] = c[i] > 0.0 ? static_cast<float>(s[i] / c[i]) : nan;

@@ -13,13 +13,15 @@ namespace trailscope::density {
 namespace OIIO = OIIO_NAMESPACE;
 
 std::string encode_png(const Image& img) {
-  if (img.width < 1 || img.height < 1 || img.rgba.size() != static_cast<std::size_t>(img.width) * img.height * 4)
+  if (img.width < 1 || img.height < 1 ||
+      img.rgba.size() != static_cast<std::size_t>(img.width) * img.height * 4)
     throw Error(Error::Kind::internal, "", "encode_png: malformed image");
   std::vector<unsigned char> buffer;
   OIIO::Filesystem::IOVecOutput proxy(buffer);
   // The name only selects the PNG writer; the bytes go to `proxy`.
   auto out = OIIO::ImageOutput::create("tile.png", &proxy);
-  if (!out) throw Error(Error::Kind::internal, "", "encode_png: OpenImageIO has no PNG writer: " + OIIO::geterror());
+  if (!out)
+    throw Error(Error::Kind::internal, "", "encode_png: OpenImageIO has no PNG writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:UnassociatedAlpha", 1);
   // Measured on the Europe day's z=4 tiles: libpng's adaptive filtering (the default) makes colormapped
@@ -29,14 +31,16 @@ std::string encode_png(const Image& img) {
   // 105 KB at the default level 6.
   spec.attribute("png:compressionLevel", 2);
   spec.attribute("png:filter", 8);
-  if (!out->open("tile.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, img.rgba.data()) || !out->close())
+  if (!out->open("tile.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, img.rgba.data()) ||
+      !out->close())
     throw Error(Error::Kind::internal, "", "encode_png: " + out->geterror());
   return std::string(buffer.begin(), buffer.end());
 }
 
 namespace {
 Image decode(OIIO::ImageInput::unique_ptr in, const std::string& what) {
-  if (!in) throw Error(Error::Kind::unsupported_format, "png", what + " is not a readable PNG: " + OIIO::geterror());
+  if (!in)
+    throw Error(Error::Kind::unsupported_format, "png", what + " is not a readable PNG: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.nchannels > 4)
     throw Error(Error::Kind::unsupported_format, "png", what + " has an unsupported layout");

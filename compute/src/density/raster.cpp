@@ -9,7 +9,8 @@
 namespace trailscope::density {
 
 std::size_t Raster::valid_count() const {
-  return static_cast<std::size_t>(std::count_if(values.begin(), values.end(), [](float v) { return !std::isnan(v); }));
+  return static_cast<std::size_t>(
+      std::count_if(values.begin(), values.end(), [](float v) { return !std::isnan(v); }));
 }
 
 Raster to_raster(const Aggregate& a, DensityValue value) {
@@ -24,18 +25,21 @@ Raster to_raster(const Aggregate& a, DensityValue value) {
     return r;
   }
   if (!a.with_value)
-    throw invalid_argument("value", std::string("the aggregate holds no values to average for '") + to_string(value) + "'");
+    throw invalid_argument(
+        "value", std::string("the aggregate holds no values to average for '") + to_string(value) + "'");
   for (std::size_t i = 0; i < n; ++i)
-    r.values[i] = a.value_count[i]
-                      ? static_cast<float>(static_cast<double>(a.value_sum[i]) / kValueScale / a.value_count[i])
-                      : nan;
+    r.values[i] =
+        a.value_count[i]
+            ? static_cast<float>(static_cast<double>(a.value_sum[i]) / kValueScale / a.value_count[i])
+            : nan;
   return r;
 }
 
 Raster crop(const Raster& r, int margin) {
   if (margin < 0 || 2 * margin >= r.width || 2 * margin >= r.height)
-    throw invalid_argument("margin", "cannot crop " + std::to_string(margin) + " px from a " + std::to_string(r.width) +
-                                         "x" + std::to_string(r.height) + " raster");
+    throw invalid_argument("margin", "cannot crop " + std::to_string(margin) + " px from a " +
+                                         std::to_string(r.width) + "x" + std::to_string(r.height) +
+                                         " raster");
   if (margin == 0) return r;
   Raster out;
   out.width = r.width - 2 * margin;

@@ -59,7 +59,8 @@ bool query_extent(const TrailSet& trails, const Query& query, geo::LonLatBox& bo
   if (box.south > box.north) return false;
   // A single point, or one meridian / parallel: give the box a hair of extent so it has pixels.
   constexpr double eps = 1e-6;
-  if (box.north - box.south < eps) box.north = std::min(geo::kMaxLatitude, box.south + eps), box.south = box.north - eps;
+  if (box.north - box.south < eps)
+    box.north = std::min(geo::kMaxLatitude, box.south + eps), box.south = box.north - eps;
   if (box.west <= box.east && box.east - box.west < eps) box.east = box.west + eps;
   return true;
 }
@@ -92,8 +93,8 @@ std::string span_key(const std::string& dataset_key, const Query& query, const T
   char gap[32];
   std::snprintf(gap, sizeof gap, "%.17g", r.max_gap_seconds);
   const char sep = '\x1f';
-  return dataset_key + sep + query.canonical() + sep + to_string(r.value) + sep + std::to_string(r.tile.z) + sep +
-         std::to_string(r.size) + sep + std::to_string(r.kernel_radius) + sep + gap;
+  return dataset_key + sep + query.canonical() + sep + to_string(r.value) + sep + std::to_string(r.tile.z) +
+         sep + std::to_string(r.size) + sep + std::to_string(r.kernel_radius) + sep + gap;
 }
 
 }  // namespace
@@ -106,8 +107,8 @@ void validate(const TileRequest& request) {
   validate_gap(request.max_gap_seconds);
 }
 
-Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& canvas, const RenderOptions& options,
-                    const SpanStats* span) {
+Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& canvas,
+                    const RenderOptions& options, const SpanStats* span) {
   colormap(options.shade.cmap, "cmap");  // fail before the work
   const AggregateResult res = aggregate(trails, query, canvas, options.aggregate);
   SpanStats own;
@@ -146,11 +147,12 @@ struct DensityRenderer::Slot {
   Lru::iterator position;
 };
 
-DensityRenderer::DensityRenderer(std::size_t max_cached_spans) : capacity_(std::max<std::size_t>(1, max_cached_spans)) {}
+DensityRenderer::DensityRenderer(std::size_t max_cached_spans)
+    : capacity_(std::max<std::size_t>(1, max_cached_spans)) {}
 
-std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trails, const std::string& dataset_key,
-                                                           const Query& query, const TileRequest& request,
-                                                           bool* cached) {
+std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trails,
+                                                           const std::string& dataset_key, const Query& query,
+                                                           const TileRequest& request, bool* cached) {
   const std::string key = span_key(dataset_key, query, request);
   std::shared_ptr<Slot> slot;
   std::promise<std::shared_ptr<const SpanStats>> promise;
@@ -192,12 +194,13 @@ std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trail
   return slot->span.get();
 }
 
-TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::string& dataset_key, const Query& query,
-                                        const TileRequest& request) {
+TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::string& dataset_key,
+                                        const Query& query, const TileRequest& request) {
   const auto start = Clock::now();
   validate(request);
   TileResult out;
-  const std::shared_ptr<const SpanStats> span = span_for(trails, dataset_key, query, request, &out.span_cached);
+  const std::shared_ptr<const SpanStats> span =
+      span_for(trails, dataset_key, query, request, &out.span_cached);
 
   AggregateOptions options;
   options.value = request.value;

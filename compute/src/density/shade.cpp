@@ -6,11 +6,32 @@
 #include "trailscope/density/colormap.hpp"
 
 namespace trailscope::density {
+namespace {
+
+struct Shaded {
+  std::uint8_t index, alpha;
+};
+
+}  // namespace
 
 Image shade(const Raster& raster, const SpanStats& span, const ShadeOptions& options) {
   const Colormap& cmap = colormap(options.cmap, "cmap");
   if (options.min_alpha < 0 || options.min_alpha > 255)
-    throw invalid_argument("min_alpha", "min_alpha " + std::to_string(options.min_alpha) + " is outside 0..255");
+    throw invalid_argument("min_alpha",
+                           "min_alpha " + std::to_string(options.min_alpha) + " is outside 0..255");
+  auto compute = [&](float v) {
+    const double t = span.normalize(v, options.how);
+    return Shaded{static_cast<std::uint8_t>(std::lround(t * 255.0)),
+                  options.alpha_ramp ? static_cast<std::uint8_t>(
+                                           std::lround(options.min_alpha + t * (255.0 - options.min_alpha)))
+                                     : std::uint8_t{255}};
+  };
+  // Counts are small integers repeated over many pixels: remember their colour instead of searching the
+  // eq_hist table again for each pixel (same result, a fraction of the time).
+  constexpr int kMemo = 4096;
+  std::vector<Shaded> memo(kMemo);
+  std::vector<bool> known(kMemo, false);
+
   Image img;
   img.width = raster.width;
   img.height = raster.height;
@@ -18,15 +39,20 @@ Image shade(const Raster& raster, const SpanStats& span, const ShadeOptions& opt
   for (std::size_t i = 0; i < raster.values.size(); ++i) {
     const float v = raster.values[i];
     if (std::isnan(v)) continue;  // transparent
-    const double t = span.normalize(v, options.how);
-    const auto& c = cmap.rgb[static_cast<std::size_t>(std::lround(t * 255.0))];
+    Shaded s;
+    if (v >= 0.0f && v < static_cast<float>(kMemo) && v == std::floor(v)) {
+      const auto k = static_cast<std::size_t>(v);
+      if (!known[k]) memo[k] = compute(v), known[k] = true;
+      s = memo[k];
+    } else {
+      s = compute(v);
+    }
+    const auto& c = cmap.rgb[s.index];
     std::uint8_t* px = &img.rgba[4 * i];
     px[0] = c[0];
     px[1] = c[1];
     px[2] = c[2];
-    px[3] = options.alpha_ramp
-                ? static_cast<std::uint8_t>(std::lround(options.min_alpha + t * (255.0 - options.min_alpha)))
-                : 255;
+    px[3] = s.alpha;
   }
   return img;
 }

@@ -11,7 +11,8 @@ How parse_how(std::string_view text, const std::string& param) {
   if (text == "linear") return How::linear;
   if (text == "log") return How::log;
   if (text == "eq_hist") return How::eq_hist;
-  throw invalid_argument(param, "unknown shading '" + std::string(text) + "' (expected linear, log or eq_hist)");
+  throw invalid_argument(param,
+                         "unknown shading '" + std::string(text) + "' (expected linear, log or eq_hist)");
 }
 
 const char* to_string(How h) noexcept {
@@ -74,13 +75,15 @@ SpanStats compute_span(const Raster& r, double scale, double floor) {
     s.cdf.push_back(static_cast<double>(upto) / n);
   };
   std::size_t count_distinct = 1;
-  for (std::size_t i = 1; i < v.size() && count_distinct <= kMaxCdfPoints; ++i) count_distinct += v[i] != v[i - 1];
+  for (std::size_t i = 1; i < v.size() && count_distinct <= kMaxCdfPoints; ++i)
+    count_distinct += v[i] != v[i - 1];
   if (count_distinct <= kMaxCdfPoints) {
     for (std::size_t i = 0; i < v.size(); ++i)
       if (i + 1 == v.size() || v[i + 1] != v[i]) push(v[i]);
   } else {
     for (std::size_t q = 0; q < kMaxCdfPoints; ++q)
-      push(v[static_cast<std::size_t>(static_cast<double>(q) * (n - 1) / static_cast<double>(kMaxCdfPoints - 1))]);
+      push(v[static_cast<std::size_t>(static_cast<double>(q) * (n - 1) /
+                                      static_cast<double>(kMaxCdfPoints - 1))]);
     push(v.back());
   }
   return s;

@@ -10,8 +10,9 @@ namespace trailscope::geo {
 namespace {
 void validate_zoom(int z) {
   if (z < limits::kMinZoom || z > limits::kMaxZoom)
-    throw invalid_argument("z", "zoom " + std::to_string(z) + " is outside " + std::to_string(limits::kMinZoom) +
-                                    ".." + std::to_string(limits::kMaxZoom));
+    throw invalid_argument("z", "zoom " + std::to_string(z) + " is outside " +
+                                    std::to_string(limits::kMinZoom) + ".." +
+                                    std::to_string(limits::kMaxZoom));
 }
 
 int unit_to_index(double unit, int z) {
@@ -58,7 +59,8 @@ TileId parent(const TileId& t) {
 std::array<TileId, 4> children(const TileId& t) {
   validate_tile(t);
   if (t.z >= limits::kMaxZoom)
-    throw invalid_argument("z", "tiles at zoom " + std::to_string(t.z) + " have no children within the zoom limit");
+    throw invalid_argument(
+        "z", "tiles at zoom " + std::to_string(t.z) + " have no children within the zoom limit");
   const int z = t.z + 1, x = 2 * t.x, y = 2 * t.y;
   return {TileId{z, x, y}, TileId{z, x + 1, y}, TileId{z, x, y + 1}, TileId{z, x + 1, y + 1}};
 }

@@ -31,7 +31,9 @@ double wrap_longitude(double lon_deg) noexcept {
   return w >= 180.0 ? -180.0 : w;
 }
 
-double lon_to_unit_x(double lon_deg) noexcept { return (wrap_longitude(lon_deg) + 180.0) / 360.0; }
+double lon_to_unit_x(double lon_deg) noexcept {
+  return (wrap_longitude(lon_deg) + 180.0) / 360.0;
+}
 
 double lat_to_unit_y(double lat_deg) noexcept {
   const double phi = clamp_latitude(lat_deg) * kDeg;
@@ -39,9 +41,13 @@ double lat_to_unit_y(double lat_deg) noexcept {
   return std::clamp(y, 0.0, 1.0);  // asinh(tan) at the clamp can round a hair past π
 }
 
-double unit_x_to_lon(double x) noexcept { return x * 360.0 - 180.0; }
+double unit_x_to_lon(double x) noexcept {
+  return x * 360.0 - 180.0;
+}
 
-double unit_y_to_lat(double y) noexcept { return std::atan(std::sinh(kPi * (1.0 - 2.0 * y))) / kDeg; }
+double unit_y_to_lat(double y) noexcept {
+  return std::atan(std::sinh(kPi * (1.0 - 2.0 * y))) / kDeg;
+}
 
 std::uint32_t lon_to_merc_x(double lon_deg) noexcept {
   if (std::isnan(lon_deg)) return 0;
@@ -53,10 +59,16 @@ std::uint32_t lat_to_merc_y(double lat_deg) noexcept {
   return to_u32(lat_to_unit_y(lat_deg) * kWorld);
 }
 
-double merc_x_to_lon(double x_units) noexcept { return unit_x_to_lon(x_units / kWorld); }
-double merc_y_to_lat(double y_units) noexcept { return unit_y_to_lat(y_units / kWorld); }
+double merc_x_to_lon(double x_units) noexcept {
+  return unit_x_to_lon(x_units / kWorld);
+}
+double merc_y_to_lat(double y_units) noexcept {
+  return unit_y_to_lat(y_units / kWorld);
+}
 
-double lon_to_meters_x(double lon_deg) noexcept { return kEarthRadiusMeters * lon_deg * kDeg; }
+double lon_to_meters_x(double lon_deg) noexcept {
+  return kEarthRadiusMeters * lon_deg * kDeg;
+}
 
 double lat_to_meters_y(double lat_deg) noexcept {
   return kEarthRadiusMeters * std::asinh(std::tan(clamp_latitude(lat_deg) * kDeg));

@@ -21,10 +21,12 @@ std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate
   std::string why;
   const DeviceContext* ctx = device_context(&why);
   if (!ctx) return "OpenCL unavailable: " + why;
-  if (s.with_value && !ctx->int64_atomics) return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
+  if (s.with_value && !ctx->int64_atomics)
+    return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
   const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
   const std::size_t n = s.size();
-  if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes || n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
+  if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes ||
+      n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
     return "buffers exceed the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE";
 
   density::Aggregate a = density::Aggregate::zeros(s.width, s.height, s.with_value);
@@ -48,8 +50,8 @@ std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate
       // COPY_HOST_PTR: the buffers are read-only on the device, the host data stays untouched.
       cl::Buffer walk(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, s.walk.size() * sizeof(std::int64_t),
                       const_cast<std::int64_t*>(s.walk.data()));
-      cl::Buffer cells(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, s.cells.size() * sizeof(std::int32_t),
-                       const_cast<std::int32_t*>(s.cells.data()));
+      cl::Buffer cells(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                       s.cells.size() * sizeof(std::int32_t), const_cast<std::int32_t*>(s.cells.data()));
       int arg = 0;
       kernel.setArg(arg++, walk);
       kernel.setArg(arg++, cells);

@@ -20,7 +20,9 @@
 namespace trailscope::ocl {
 
 enum class Path { cpu, opencl };
-inline const char* to_string(Path p) { return p == Path::opencl ? "opencl" : "cpu"; }
+inline const char* to_string(Path p) {
+  return p == Path::opencl ? "opencl" : "cpu";
+}
 
 /// True when a usable device exists (initialises the runtime on first use). Never throws.
 bool available() noexcept;
@@ -42,8 +44,10 @@ void record_path(const char* op, Path path, const std::string& fallback_reason =
 /// it may also throw trailscope::Error or std::exception, which counts as "cannot run". `run_ref()` runs
 /// the reference. Returns the path that ran.
 template <class TryOpenCl, class RunRef>
-Path dispatch(const char* op, Backend requested, bool worth_opencl, TryOpenCl&& try_opencl, RunRef&& run_ref) {
-  bool use_opencl = requested == Backend::opencl || (requested == Backend::auto_ && worth_opencl && available());
+Path dispatch(const char* op, Backend requested, bool worth_opencl, TryOpenCl&& try_opencl,
+              RunRef&& run_ref) {
+  bool use_opencl =
+      requested == Backend::opencl || (requested == Backend::auto_ && worth_opencl && available());
   std::string why;
   if (use_opencl) {
     if (injected_failure(op)) {

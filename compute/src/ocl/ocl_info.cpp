@@ -48,7 +48,9 @@ OpenClInfo opencl_info() {
   return info;
 }
 
-bool opencl_available() { return ocl::available(); }
+bool opencl_available() {
+  return ocl::available();
+}
 
 void opencl_warm_up() {
 #ifdef TRAILSCOPE_HAVE_OPENCL
@@ -94,7 +96,9 @@ bool device_is_gpu() noexcept {
 #endif
 }
 
-std::string unavailable_reason() { return opencl_info().error; }
+std::string unavailable_reason() {
+  return opencl_info().error;
+}
 
 bool injected_failure(const char* op) noexcept {
   const char* env = std::getenv("TRAILSCOPE_OPENCL_INJECT_FAILURE");

@@ -16,7 +16,8 @@ namespace trailscope::ocl {
 namespace {
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -118,12 +119,14 @@ bool choose(Candidate& out, std::string& reason) {
              "' TRAILSCOPE_OPENCL_DEVICE='" + want_device + "' (devices: " + listing + ")";
     return false;
   }
-  auto is_gpu = [](const Candidate& c) { return (c.type & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0; };
+  auto is_gpu = [](const Candidate& c) {
+    return (c.type & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0;
+  };
   auto it = std::find_if(matches.begin(), matches.end(), is_gpu);
   if (it == matches.end())
     it = std::find_if(matches.begin(), matches.end(), [](const Candidate& c) {
-      return (c.type & CL_DEVICE_TYPE_CPU) &&
-             (contains_ci(c.platform_name, "Portable Computing Language") || contains_ci(c.platform_name, "pocl"));
+      return (c.type & CL_DEVICE_TYPE_CPU) && (contains_ci(c.platform_name, "Portable Computing Language") ||
+                                               contains_ci(c.platform_name, "pocl"));
     });
   out = it != matches.end() ? *it : matches.front();
   return true;
@@ -141,7 +144,8 @@ void initialise(State& s) {
     ctx.device_type = type_name(c.type);
     ctx.is_gpu = (c.type & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0;
     ctx.device_version = c.device.getInfo<CL_DEVICE_VERSION>();
-    ctx.int64_atomics = c.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") != std::string::npos;
+    ctx.int64_atomics =
+        c.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") != std::string::npos;
     ctx.max_alloc_bytes = static_cast<std::size_t>(c.device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
     ctx.context = cl::Context(c.device);
     if (parse_version(c.platform.getInfo<CL_PLATFORM_VERSION>(), "OpenCL ") >= 200) {
@@ -156,42 +160,67 @@ void initialise(State& s) {
     }
     s.ok = true;
   } catch (const cl::Error& e) {
-    s.reason = "cannot create an OpenCL context on " + c.platform_name + " / " + c.device_name + ": " + describe(e);
+    s.reason =
+        "cannot create an OpenCL context on " + c.platform_name + " / " + c.device_name + ": " + describe(e);
   }
 }
 
 const char* error_name(cl_int code) {
   switch (code) {
-    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
-    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
-    case CL_COMPILER_NOT_AVAILABLE: return "CL_COMPILER_NOT_AVAILABLE";
-    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
-    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
-    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
-    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
-    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
-    case CL_INVALID_PLATFORM: return "CL_INVALID_PLATFORM";
-    case CL_INVALID_DEVICE: return "CL_INVALID_DEVICE";
-    case CL_INVALID_CONTEXT: return "CL_INVALID_CONTEXT";
-    case CL_INVALID_COMMAND_QUEUE: return "CL_INVALID_COMMAND_QUEUE";
-    case CL_INVALID_MEM_OBJECT: return "CL_INVALID_MEM_OBJECT";
-    case CL_INVALID_BUILD_OPTIONS: return "CL_INVALID_BUILD_OPTIONS";
-    case CL_INVALID_PROGRAM_EXECUTABLE: return "CL_INVALID_PROGRAM_EXECUTABLE";
-    case CL_INVALID_KERNEL_NAME: return "CL_INVALID_KERNEL_NAME";
-    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
-    case CL_INVALID_ARG_SIZE: return "CL_INVALID_ARG_SIZE";
-    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
-    case CL_INVALID_GLOBAL_WORK_SIZE: return "CL_INVALID_GLOBAL_WORK_SIZE";
-    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
-    case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
-    default: return "CL error";
+    case CL_DEVICE_NOT_FOUND:
+      return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE:
+      return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE:
+      return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE:
+      return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES:
+      return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY:
+      return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE:
+      return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE:
+      return "CL_INVALID_VALUE";
+    case CL_INVALID_PLATFORM:
+      return "CL_INVALID_PLATFORM";
+    case CL_INVALID_DEVICE:
+      return "CL_INVALID_DEVICE";
+    case CL_INVALID_CONTEXT:
+      return "CL_INVALID_CONTEXT";
+    case CL_INVALID_COMMAND_QUEUE:
+      return "CL_INVALID_COMMAND_QUEUE";
+    case CL_INVALID_MEM_OBJECT:
+      return "CL_INVALID_MEM_OBJECT";
+    case CL_INVALID_BUILD_OPTIONS:
+      return "CL_INVALID_BUILD_OPTIONS";
+    case CL_INVALID_PROGRAM_EXECUTABLE:
+      return "CL_INVALID_PROGRAM_EXECUTABLE";
+    case CL_INVALID_KERNEL_NAME:
+      return "CL_INVALID_KERNEL_NAME";
+    case CL_INVALID_KERNEL_ARGS:
+      return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_ARG_SIZE:
+      return "CL_INVALID_ARG_SIZE";
+    case CL_INVALID_WORK_GROUP_SIZE:
+      return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_GLOBAL_WORK_SIZE:
+      return "CL_INVALID_GLOBAL_WORK_SIZE";
+    case CL_INVALID_BUFFER_SIZE:
+      return "CL_INVALID_BUFFER_SIZE";
+    case -1001:
+      return "CL_PLATFORM_NOT_FOUND_KHR";
+    default:
+      return "CL error";
   }
 }
 
 }  // namespace
 
 std::string describe(const cl::Error& e) {
-  return std::string(error_name(e.err())) + " (" + std::to_string(e.err()) + ") in " + (e.what() ? e.what() : "?");
+  return std::string(error_name(e.err())) + " (" + std::to_string(e.err()) + ") in " +
+         (e.what() ? e.what() : "?");
 }
 
 const DeviceContext* device_context(std::string* reason) noexcept {

@@ -78,6 +78,9 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
   for (;;) {
     http::request_parser<http::empty_body> head;
     head.header_limit(16 * 1024);
+    // The body limit depends on the route, so it is checked below, not by this header-only parser
+    // (whose default 1 MB limit would otherwise reject every large upload while reading the header).
+    head.body_limit(boost::none);
     stream.expires_after(std::chrono::seconds(limits::kRequestTimeoutSeconds));
     co_await http::async_read_header(stream, buffer, head, net::redirect_error(net::use_awaitable, ec));
     if (ec) break;  // closed, timed out, or not HTTP: nothing useful to answer
@@ -99,6 +102,10 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     bool keep_alive = h.keep_alive();
     fs::path file;
     try {
+      const std::uint64_t limit = is_upload(h) ? limits::kMaxUploadBytes : limits::kMaxRequestBodyBytes;
+      if (head.content_length() && *head.content_length() > limit)
+        throw Error(Error::Kind::payload_too_large, "body",
+                    is_upload(h) ? "upload exceeds the limit of 2 GiB" : "request body exceeds the limit of 1 MiB");
       if (is_upload(h)) {
         // Uploads stream to disk with their own limit and timeout; memory stays flat.
         file = upload_path(upload_dir);
@@ -125,8 +132,9 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
         auto msg = p.release();
         res = router.handle(to_request(msg, std::move(msg.body()), {}));
       }
-    } catch (const beast::system_error&) {
+    } catch (const beast::system_error& e) {
       if (!file.empty()) fs::remove(file, ec);
+      std::cerr << "connection dropped mid-request: " << e.code().message() << "\n";
       break;  // the connection failed mid-request; nobody to answer
     } catch (const std::exception& e) {
       if (!file.empty()) fs::remove(file, ec);

@@ -19,7 +19,9 @@ using test::Seg;
 
 constexpr std::int64_t kWorld = std::int64_t{1} << 32;
 
-std::int32_t at(const Aggregate& a, int x, int y) { return a.count[static_cast<std::size_t>(y) * a.width + x]; }
+std::int32_t at(const Aggregate& a, int x, int y) {
+  return a.count[static_cast<std::size_t>(y) * a.width + x];
+}
 
 Aggregate draw(const std::vector<Seg>& segs, const Canvas& c) {
   return density_lines(test::prepare(segs, c), Backend::cpu);
@@ -61,10 +63,10 @@ TEST(DensityLines, DiagonalsThroughPixelCorners) {
 TEST(DensityLines, WalkMatchesTheDefinitionOnRandomSegments) {
   std::mt19937 rng(20240601);
   const std::vector<Canvas> canvases = {
-      Canvas(0, 0, 1, 40, 30),                      // one unit per pixel: every endpoint on a corner
-      Canvas(1000, 2000, 16, 48, 40),               // power-of-two pixels
-      Canvas(-7 * 33, 5 * 33 + 3, 33, 37, 29),      // odd pixel size, negative origin
-      Canvas(kWorld - 20 * 64, 100, 64, 40, 40),    // at the east edge of the world
+      Canvas(0, 0, 1, 40, 30),                    // one unit per pixel: every endpoint on a corner
+      Canvas(1000, 2000, 16, 48, 40),             // power-of-two pixels
+      Canvas(-7 * 33, 5 * 33 + 3, 33, 37, 29),    // odd pixel size, negative origin
+      Canvas(kWorld - 20 * 64, 100, 64, 40, 40),  // at the east edge of the world
   };
   for (const Canvas& c : canvases) {
     const std::vector<Seg> segs = test::random_segments(rng, c, 300, 0.6);
@@ -113,7 +115,8 @@ TEST(DensityLines, ParentPixelIsTheUnionOfItsChildren) {
   std::uint64_t strict = 0;
   for (int y = 0; y < 40; ++y)
     for (int x = 0; x < 40; ++x) {
-      const int k[4] = {at(c, 2 * x, 2 * y), at(c, 2 * x + 1, 2 * y), at(c, 2 * x, 2 * y + 1), at(c, 2 * x + 1, 2 * y + 1)};
+      const int k[4] = {at(c, 2 * x, 2 * y), at(c, 2 * x + 1, 2 * y), at(c, 2 * x, 2 * y + 1),
+                        at(c, 2 * x + 1, 2 * y + 1)};
       const int sum = k[0] + k[1] + k[2] + k[3], mx = std::max({k[0], k[1], k[2], k[3]});
       ASSERT_LE(mx, at(p, x, y));
       ASSERT_LE(at(p, x, y), sum);
@@ -228,8 +231,9 @@ TEST(DensityLines, PreparedFromTrailsHonoursQueryGapAndRuns) {
   append_segment(straight, c, {ts.merc_x()[0], ts.merc_y()[0]}, {ts.merc_x()[2], ts.merc_y()[2]}, false);
   Query only_a;
   only_a.icao24 = {"aaaaaa"};
-  EXPECT_EQ(density_lines(prepare_line_segments(ts, only_a, c, DensityValue::count), Backend::cpu).total_count(),
-            density_lines(straight, Backend::cpu).total_count());
+  EXPECT_EQ(
+      density_lines(prepare_line_segments(ts, only_a, c, DensityValue::count), Backend::cpu).total_count(),
+      density_lines(straight, Backend::cpu).total_count());
   EXPECT_THROW(prepare_line_segments(ts, all, c, DensityValue::count, 0.0), Error);
 }
 

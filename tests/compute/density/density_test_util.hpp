@@ -98,22 +98,39 @@ inline density::LineSegments prepare(const std::vector<Seg>& segs, const Canvas&
 inline std::vector<Seg> random_segments(std::mt19937& rng, const Canvas& c, int n, double reach = 0.5) {
   const std::int64_t p = c.pixel_units();
   const std::int64_t w = c.width() * p, h = c.height() * p;
-  std::uniform_int_distribution<std::int64_t> ux(-static_cast<std::int64_t>(reach * w), w + static_cast<std::int64_t>(reach * w));
-  std::uniform_int_distribution<std::int64_t> uy(-static_cast<std::int64_t>(reach * h), h + static_cast<std::int64_t>(reach * h));
+  std::uniform_int_distribution<std::int64_t> ux(-static_cast<std::int64_t>(reach * w),
+                                                 w + static_cast<std::int64_t>(reach * w));
+  std::uniform_int_distribution<std::int64_t> uy(-static_cast<std::int64_t>(reach * h),
+                                                 h + static_cast<std::int64_t>(reach * h));
   std::uniform_int_distribution<int> kind(0, 9);
   auto snap = [&](std::int64_t v) { return v - ((v % p) + p) % p; };
   std::vector<Seg> out;
   for (int k = 0; k < n; ++k) {
     MercPoint a{ux(rng), uy(rng)}, b{ux(rng), uy(rng)};
     switch (kind(rng)) {
-      case 0: a = {snap(a.x), snap(a.y)}, b = {snap(b.x), snap(b.y)}; break;          // corner to corner
-      case 1: b = {a.x + (b.y - a.y), b.y}; break;                                    // 45°
-      case 2: a = {snap(a.x), snap(a.y)}, b = {a.x + (b.y - a.y), b.y}; break;        // 45° through corners
-      case 3: b.y = a.y; break;                                                       // horizontal
-      case 4: b.x = a.x = snap(a.x); break;                                           // vertical on an edge
-      case 5: b = a; break;                                                           // zero length
-      case 6: a.y = b.y = snap(a.y); break;                                           // along a pixel edge
-      default: break;
+      case 0:
+        a = {snap(a.x), snap(a.y)}, b = {snap(b.x), snap(b.y)};
+        break;  // corner to corner
+      case 1:
+        b = {a.x + (b.y - a.y), b.y};
+        break;  // 45°
+      case 2:
+        a = {snap(a.x), snap(a.y)}, b = {a.x + (b.y - a.y), b.y};
+        break;  // 45° through corners
+      case 3:
+        b.y = a.y;
+        break;  // horizontal
+      case 4:
+        b.x = a.x = snap(a.x);
+        break;  // vertical on an edge
+      case 5:
+        b = a;
+        break;  // zero length
+      case 6:
+        a.y = b.y = snap(a.y);
+        break;  // along a pixel edge
+      default:
+        break;
     }
     out.push_back(Seg{{a.x + c.origin_x(), a.y + c.origin_y()}, {b.x + c.origin_x(), b.y + c.origin_y()}});
   }
@@ -152,11 +169,13 @@ inline const TrailSet& synthetic() {
     std::vector<std::vector<std::pair<double, double>>> lines;
     for (int k = 0; k < 24; ++k) {
       const double a = k * M_PI / 12;
-      lines.push_back({{2.35, 48.85}, {2.35 + 4 * std::cos(a), 48.85 + 3 * std::sin(a)},
+      lines.push_back({{2.35, 48.85},
+                       {2.35 + 4 * std::cos(a), 48.85 + 3 * std::sin(a)},
                        {2.35 + 11 * std::cos(a), 48.85 + 8 * std::sin(a)}});
     }
     std::vector<std::pair<double, double>> ring;
-    for (int k = 0; k <= 72; ++k) ring.push_back({10 + 6 * std::cos(k * M_PI / 36), 45 + 4 * std::sin(k * M_PI / 36)});
+    for (int k = 0; k <= 72; ++k)
+      ring.push_back({10 + 6 * std::cos(k * M_PI / 36), 45 + 4 * std::sin(k * M_PI / 36)});
     lines.push_back(ring);
     for (int k = 0; k < 40; ++k) lines.push_back({{-5.0, 44.0 + k * 0.2}, {15.0, 46.0 + k * 0.25}});
     std::vector<std::pair<double, double>> zig;
@@ -185,8 +204,10 @@ class ScopedEnv {
     setenv(name, value, 1);
   }
   ~ScopedEnv() {
-    if (had_) setenv(name_.c_str(), old_.c_str(), 1);
-    else unsetenv(name_.c_str());
+    if (had_)
+      setenv(name_.c_str(), old_.c_str(), 1);
+    else
+      unsetenv(name_.c_str());
   }
   ScopedEnv(const ScopedEnv&) = delete;
   ScopedEnv& operator=(const ScopedEnv&) = delete;

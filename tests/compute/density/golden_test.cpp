@@ -27,11 +27,13 @@ void compare_with_golden(const Image& img, const std::string& name) {
   int worst = 0;
   for (std::size_t p = 0; p < img.rgba.size() / 4; ++p) {
     int d = 0;
-    for (int c = 0; c < 4; ++c) d = std::max(d, std::abs(int{img.rgba[4 * p + c]} - int{golden.rgba[4 * p + c]}));
+    for (int c = 0; c < 4; ++c)
+      d = std::max(d, std::abs(int{img.rgba[4 * p + c]} - int{golden.rgba[4 * p + c]}));
     worst = std::max(worst, d);
     off += d > 2;
   }
-  EXPECT_LE(off, img.rgba.size() / 4 / 1000) << name << ": " << off << " pixels differ by more than 2 (worst " << worst << ")";
+  EXPECT_LE(off, img.rgba.size() / 4 / 1000)
+      << name << ": " << off << " pixels differ by more than 2 (worst " << worst << ")";
 }
 
 TEST(Golden, EuropeDayTile) {
@@ -41,7 +43,8 @@ TEST(Golden, EuropeDayTile) {
   TileRequest r;  // defaults: 256 px, count, eq_hist, fire, no smoothing, 1800 s gap limit
   r.tile = geo::TileId{3, 4, 2};
   r.backend = Backend::cpu;
-  compare_with_golden(decode_png(renderer.render_tile(*eu, "eu", Query{}, r).png), "europe_3_4_2_count_fire.png");
+  compare_with_golden(decode_png(renderer.render_tile(*eu, "eu", Query{}, r).png),
+                      "europe_3_4_2_count_fire.png");
 }
 
 TEST(Golden, EuropeDayAltitudeSmoothed) {
@@ -65,8 +68,9 @@ TEST(Golden, SyntheticBoundingBox) {
   o.aggregate.backend = Backend::cpu;
   o.shade.how = How::log;
   o.shade.cmap = "magma";
-  compare_with_golden(render_canvas(test::synthetic(), Query{}, Canvas::for_bbox(geo::LonLatBox{-10, 35, 25, 58}, 360), o),
-                      "synthetic_bbox_log_magma.png");
+  compare_with_golden(
+      render_canvas(test::synthetic(), Query{}, Canvas::for_bbox(geo::LonLatBox{-10, 35, 25, 58}, 360), o),
+      "synthetic_bbox_log_magma.png");
 }
 
 }  // namespace

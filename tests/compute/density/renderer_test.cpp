@@ -89,7 +89,8 @@ TEST(Renderer, TileIsAPngOfTheRightSize) {
 
 TEST(Renderer, EmptyTileIsTransparent) {
   DensityRenderer renderer;
-  const TileResult res = renderer.render_tile(synthetic(), "syn", Query{}, request(TileId{4, 2, 12}));  // South Pacific
+  const TileResult res =
+      renderer.render_tile(synthetic(), "syn", Query{}, request(TileId{4, 2, 12}));  // South Pacific
   EXPECT_TRUE(res.empty);
   EXPECT_EQ(res.max_count, 0u);
   const Image img = decode_png(res.png);
@@ -143,8 +144,8 @@ TEST(Renderer, SpanIsExactWhereTheExtentFits) {
     }
   all.height = static_cast<int>(all.values.size() / 256);
   const SpanStats expected = compute_span(all);
-  const SpanStats got =
-      estimate_span(synthetic(), Query{}, DensityValue::count, 2, 256, 0, limits::kFlightGapSeconds, Backend::cpu);
+  const SpanStats got = estimate_span(synthetic(), Query{}, DensityValue::count, 2, 256, 0,
+                                      limits::kFlightGapSeconds, Backend::cpu);
   EXPECT_EQ(got.samples, expected.samples);
   EXPECT_EQ(got.cdf_values, expected.cdf_values);
   EXPECT_EQ(got.cdf, expected.cdf);
@@ -186,7 +187,8 @@ void check_seam(const TrailSet& ts, TileId west, int kernel_radius) {
   // 2. The numbers of the two tiles are exactly the two halves of one canvas spanning both (no clipping
   //    artefact, and the smoothing margin carries the neighbour's data).
   const Canvas w = Canvas::for_tile(west, 256);
-  const Raster rab = aggregate(ts, Query{}, Canvas(w.origin_x(), w.origin_y(), w.pixel_units(), 512, 256), o).raster;
+  const Raster rab =
+      aggregate(ts, Query{}, Canvas(w.origin_x(), w.origin_y(), w.pixel_units(), 512, 256), o).raster;
   for (int y = 0; y < 256; ++y)
     for (int x = 0; x < 256; ++x) {
       const float l = rab.at(x, y), r = rab.at(256 + x, y);
@@ -200,7 +202,8 @@ void check_seam(const TrailSet& ts, TileId west, int kernel_radius) {
   const Image strip = shade(rab, *span, so);
   int worst = 0, opaque = 0;
   for (int y = 0; y < 256; ++y) {
-    worst = std::max({worst, distance(a.pixel(255, y), strip.pixel(255, y)), distance(b.pixel(0, y), strip.pixel(256, y))});
+    worst = std::max({worst, distance(a.pixel(255, y), strip.pixel(255, y)),
+                      distance(b.pixel(0, y), strip.pixel(256, y))});
     opaque += a.pixel(255, y)[3] != 0;
   }
   EXPECT_LE(worst, 1);
@@ -232,7 +235,8 @@ TEST(Renderer, ChildTilesTileTheParentExactly) {
     const int ox = (k % 2) * 256, oy = (k / 2) * 256;
     for (int y = 0; y < 256; ++y)
       for (int x = 0; x < 256; ++x)
-        ASSERT_EQ(c.count[static_cast<std::size_t>(y) * 256 + x], big.count[static_cast<std::size_t>(oy + y) * 512 + ox + x]);
+        ASSERT_EQ(c.count[static_cast<std::size_t>(y) * 256 + x],
+                  big.count[static_cast<std::size_t>(oy + y) * 512 + ox + x]);
   }
   // And each parent pixel relates to its 2×2 children as density_lines.hpp documents:
   //   child(c) − V(P∖c) <= parent(P) <= Σ child,  V(P∖c) = run vertices in P's other children.
@@ -253,7 +257,8 @@ TEST(Renderer, ChildTilesTileTheParentExactly) {
       const int p = small.count[static_cast<std::size_t>(y) * 256 + x];
       int sum = 0, v_all = 0;
       for (int k = 0; k < 4; ++k) sum += big.count[idx(k)], v_all += vertices[idx(k)];
-      for (int k = 0; k < 4; ++k) ASSERT_LE(big.count[idx(k)] - (v_all - vertices[idx(k)]), p) << x << "," << y;
+      for (int k = 0; k < 4; ++k)
+        ASSERT_LE(big.count[idx(k)] - (v_all - vertices[idx(k)]), p) << x << "," << y;
       ASSERT_LE(p, sum);
       strict += p < sum;
       sum_children += static_cast<std::uint64_t>(sum);
@@ -307,7 +312,8 @@ TEST(Renderer, ValuesAndSmoothing) {
     if (!std::isnan(v)) ASSERT_TRUE(v >= 1000.0f && v <= 8200.0f) << v;
   // Smoothing spreads the lines: more pixels hold data.
   o.kernel_radius = 5;
-  EXPECT_GT(aggregate(synthetic(), Query{}, Canvas::for_tile(r.tile, 256), o).raster.valid_count(), alt.valid_count());
+  EXPECT_GT(aggregate(synthetic(), Query{}, Canvas::for_tile(r.tile, 256), o).raster.valid_count(),
+            alt.valid_count());
   EXPECT_THROW(
       {
         o.kernel_radius = 40;
@@ -337,14 +343,16 @@ TEST(Renderer, RenderCanvasForABoundingBox) {
   RenderOptions o;
   o.aggregate.backend = Backend::cpu;
   o.shade.how = How::log;
-  const Image img = render_canvas(synthetic(), Query{}, Canvas::for_bbox(geo::LonLatBox{-10, 35, 25, 58}, 400), o);
+  const Image img =
+      render_canvas(synthetic(), Query{}, Canvas::for_bbox(geo::LonLatBox{-10, 35, 25, 58}, 400), o);
   EXPECT_EQ(img.width, 400);
   EXPECT_GT(img.height, 300);
   std::size_t opaque = 0;
   for (std::size_t i = 3; i < img.rgba.size(); i += 4) opaque += img.rgba[i] != 0;
   EXPECT_GT(opaque, 1000u);
   o.shade.cmap = "rainbow";
-  EXPECT_THROW(render_canvas(synthetic(), Query{}, Canvas::for_bbox(geo::LonLatBox{-10, 35, 25, 58}, 400), o), Error);
+  EXPECT_THROW(render_canvas(synthetic(), Query{}, Canvas::for_bbox(geo::LonLatBox{-10, 35, 25, 58}, 400), o),
+               Error);
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ TEST(Span, LinearAndLogOnKnownValues) {
   EXPECT_DOUBLE_EQ(s.normalize(9, How::linear), 1.0);  // beyond the span: clamped
   EXPECT_DOUBLE_EQ(s.normalize(0.5, How::linear), 0.0);
   // Datashader's log: log1p of the value, between log1p(lo) and log1p(hi).
-  EXPECT_NEAR(s.normalize(2, How::log), (std::log(3.0) - std::log(2.0)) / (std::log(5.0) - std::log(2.0)), 1e-15);
+  EXPECT_NEAR(s.normalize(2, How::log), (std::log(3.0) - std::log(2.0)) / (std::log(5.0) - std::log(2.0)),
+              1e-15);
   EXPECT_TRUE(std::isnan(s.normalize(NAN, How::log)));
   // Data below zero is shifted so that log1p stays defined.
   const SpanStats n = compute_span(raster({-3, 0, 5}));
@@ -89,10 +90,12 @@ TEST(Span, ParsesHow) {
 }
 
 std::array<std::uint8_t, 3> rgb(std::uint32_t hex) {
-  return {static_cast<std::uint8_t>(hex >> 16), static_cast<std::uint8_t>(hex >> 8), static_cast<std::uint8_t>(hex)};
+  return {static_cast<std::uint8_t>(hex >> 16), static_cast<std::uint8_t>(hex >> 8),
+          static_cast<std::uint8_t>(hex)};
 }
 
-void expect_near(const std::array<std::uint8_t, 3>& a, const std::array<std::uint8_t, 3>& b, int tol, const char* what) {
+void expect_near(const std::array<std::uint8_t, 3>& a, const std::array<std::uint8_t, 3>& b, int tol,
+                 const char* what) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], tol) << what << " channel " << c;
 }
 

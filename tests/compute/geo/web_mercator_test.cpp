@@ -41,7 +41,8 @@ TEST(WebMercator, FixedPointIsAdsbExposedConvention) {
   EXPECT_EQ(lat_to_merc_y(89.0), 0u);
   EXPECT_EQ(lat_to_merc_y(-89.0), 0xFFFFFFFFu);
   for (double lat : {-60.0, -12.5, 33.3, 52.31, 71.0}) {
-    const double expected = 4294967296.0 * (0.5 - std::log(std::tan((lat + 90.0) / 360.0 * M_PI)) / (2 * M_PI));
+    const double expected =
+        4294967296.0 * (0.5 - std::log(std::tan((lat + 90.0) / 360.0 * M_PI)) / (2 * M_PI));
     EXPECT_NEAR(static_cast<double>(lat_to_merc_y(lat)), std::floor(expected), 1.0) << lat;
   }
 }

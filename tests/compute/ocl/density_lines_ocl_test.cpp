@@ -3,7 +3,9 @@
 // kernel uses integer atomics only, so the aggregates must be bit-identical.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <random>
+#include <thread>
 
 #include "../density/density_test_util.hpp"
 #include "trailscope/core/error.hpp"
@@ -62,26 +64,27 @@ TEST_F(DensityLinesOcl, EdgeCases) {
   const Canvas tile(10 * 256 * p, 20 * 256 * p, p, 256, 256);  // a 256 px tile
   const std::int64_t x0 = tile.origin_x(), y0 = tile.origin_y(), x1 = tile.end_x(), y1 = tile.end_y();
   std::vector<Seg> segs = {
-      {{x0, y0}, {x1, y0}},                          // along the north edge (inside: half-open)
-      {{x0, y1}, {x1, y1}},                          // along the south edge (outside)
-      {{x0, y0}, {x0, y1}},                          // along the west edge (inside)
-      {{x1, y0}, {x1, y1}},                          // along the east edge (outside)
-      {{x0 - 5 * p, y0 - 5 * p}, {x1 + 5 * p, y1 + 5 * p}},  // corner to corner through the tile
-      {{x1 + 3, y0 - 3}, {x0 - 3, y1 + 3}},          // the other diagonal, just off the corners
+      {{x0, y0}, {x1, y0}},                                      // along the north edge (inside: half-open)
+      {{x0, y1}, {x1, y1}},                                      // along the south edge (outside)
+      {{x0, y0}, {x0, y1}},                                      // along the west edge (inside)
+      {{x1, y0}, {x1, y1}},                                      // along the east edge (outside)
+      {{x0 - 5 * p, y0 - 5 * p}, {x1 + 5 * p, y1 + 5 * p}},      // corner to corner through the tile
+      {{x1 + 3, y0 - 3}, {x0 - 3, y1 + 3}},                      // the other diagonal, just off the corners
       {{x0 + 100 * p + 7, y0 + 9}, {x0 + 100 * p + 7, y0 + 9}},  // zero length
       {{x0 + 3 * p, y0 + 40 * p + 1}, {x0 + 200 * p, y0 + 40 * p + 1}},  // horizontal
       {{x0 + 77 * p, y0 - 1000 * p}, {x0 + 77 * p, y1 + 1000 * p}},      // vertical, long
-      {{x1 + p, y0}, {x1 + 900 * p, y1}},            // entirely outside
-      {{0, 0}, {kWorld - 1, kWorld - 1}},            // huge: the world's diagonal
-      {{x0 - kWorld / 3, y0 + 17}, {x1 + kWorld / 7, y1 - 17}},  // huge, clipped on both sides
-      {{x0 + 5, y0 + 5}, {x0 + 5 + kWorld / 2 + 10, y0 + 5}},    // > half a world: drawn the other way
+      {{x1 + p, y0}, {x1 + 900 * p, y1}},                                // entirely outside
+      {{0, 0}, {kWorld - 1, kWorld - 1}},                                // huge: the world's diagonal
+      {{x0 - kWorld / 3, y0 + 17}, {x1 + kWorld / 7, y1 - 17}},          // huge, clipped on both sides
+      {{x0 + 5, y0 + 5}, {x0 + 5 + kWorld / 2 + 10, y0 + 5}},  // > half a world: drawn the other way
   };
   LineSegments s = test::prepare(segs, tile);
   both(s);
   EXPECT_EQ(both(s).count, test::brute_counts(segs, tile));
   // Runs (first pixel left out) and values.
   LineSegments runs = LineSegments::for_canvas(tile, true);
-  for (std::size_t k = 0; k < segs.size(); ++k) append_segment(runs, tile, segs[k].a, segs[k].b, k % 2 == 1, 100.0 * k);
+  for (std::size_t k = 0; k < segs.size(); ++k)
+    append_segment(runs, tile, segs[k].a, segs[k].b, k % 2 == 1, 100.0 * k);
   both(runs);
   // Nothing at all.
   both(LineSegments::for_canvas(tile, false));
@@ -95,6 +98,30 @@ TEST_F(DensityLinesOcl, EuropeDayTilesBitIdentical) {
       const LineSegments s = prepare_line_segments(*ts, Query{}, Canvas::for_tile(t, 256, 8), v, INFINITY);
       EXPECT_GT(both(s).total_count(), 0u) << geo::to_string(t);
     }
+}
+
+TEST_F(DensityLinesOcl, ConcurrentCallsShareTheQueue) {
+  // One context and queue per process, one kernel object per call: calls from several threads at once
+  // must each get their own, correct result.
+  std::mt19937 rng(77);
+  const Canvas c(0, 0, 1 << 14, 128, 128);
+  std::vector<LineSegments> inputs;
+  std::vector<Aggregate> expected;
+  for (int k = 0; k < 4; ++k) {
+    inputs.push_back(test::prepare(test::random_segments(rng, c, 3000, 0.3), c, k % 2 == 1, &rng));
+    expected.push_back(density_lines_ref(inputs.back()));
+  }
+  std::vector<std::thread> threads;
+  std::atomic<int> wrong{0};
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int rep = 0; rep < 5; ++rep) {
+        const Aggregate a = density_lines(inputs[static_cast<std::size_t>(t)], Backend::opencl);
+        if (a.path != ComputePath::opencl || !a.same_numbers(expected[static_cast<std::size_t>(t)])) ++wrong;
+      }
+    });
+  for (auto& th : threads) th.join();
+  EXPECT_EQ(wrong.load(), 0);
 }
 
 TEST_F(DensityLinesOcl, PathIsRecorded) {

@@ -33,13 +33,13 @@ namespace trailscope::density {
 inline constexpr int kSpanCanvasPx = 1024;
 
 struct TileRequest {
-  geo::TileId tile;                        ///< z in limits::kMinZoom..kMaxZoom, x and y in 0..2^z−1
-  int size = limits::kTileSizeSmall;       ///< 256 or 512 pixels
+  geo::TileId tile;                   ///< z in limits::kMinZoom..kMaxZoom, x and y in 0..2^z−1
+  int size = limits::kTileSizeSmall;  ///< 256 or 512 pixels
   DensityValue value = DensityValue::count;
   How how = How::eq_hist;
-  std::string cmap = "fire";               ///< colormap.hpp names
-  int kernel_radius = 0;                   ///< KDE radius, pixels, 0..limits::kMaxKernelRadiusPx
-  bool alpha_ramp = false;                 ///< shade.hpp
+  std::string cmap = "fire";                           ///< colormap.hpp names
+  int kernel_radius = 0;                               ///< KDE radius, pixels, 0..limits::kMaxKernelRadiusPx
+  bool alpha_ramp = false;                             ///< shade.hpp
   double max_gap_seconds = limits::kFlightGapSeconds;  ///< > 0; +infinity draws every segment
   Backend backend = default_backend();
 };
@@ -49,12 +49,12 @@ struct TileRequest {
 void validate(const TileRequest& request);
 
 struct TileResult {
-  std::string png;             ///< PNG bytes (a fully transparent image when `empty`)
-  std::uint64_t max_count = 0; ///< largest segment count of a pixel of this tile (before smoothing)
-  bool empty = true;           ///< no pixel holds data
-  std::string path;            ///< "opencl" or "cpu": where density_lines ran
-  double ms = 0;               ///< wall time of render_tile, span lookup included
-  bool span_cached = false;    ///< the span came from the cache (or another request computing it)
+  std::string png;              ///< PNG bytes (a fully transparent image when `empty`)
+  std::uint64_t max_count = 0;  ///< largest segment count of a pixel of this tile (before smoothing)
+  bool empty = true;            ///< no pixel holds data
+  std::string path;             ///< "opencl" or "cpu": where density_lines ran
+  double ms = 0;                ///< wall time of render_tile, span lookup included
+  bool span_cached = false;     ///< the span came from the cache (or another request computing it)
 };
 
 struct RenderOptions {
@@ -65,8 +65,8 @@ struct RenderOptions {
 /// Aggregates and shades an arbitrary canvas (the CLI's bbox rendering). With `span` null the span is
 /// the canvas's own data (right for a single image, wrong for tiles: use DensityRenderer). Throws what
 /// aggregate() and shade() throw.
-Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& canvas, const RenderOptions& options,
-                    const SpanStats* span = nullptr);
+Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& canvas,
+                    const RenderOptions& options, const SpanStats* span = nullptr);
 
 /// The shared span of one pixel level (see THE SHARED SPAN), computed without caching.
 /// `tile_size` is 256 or 512; z and kernel_radius are validated as in TileRequest.
@@ -86,8 +86,9 @@ class DensityRenderer {
                          const TileRequest& request);
 
   /// The cached span for a request's level (computing it when needed); `cached` tells which.
-  std::shared_ptr<const SpanStats> span_for(const TrailSet& trails, const std::string& dataset_key, const Query& query,
-                                            const TileRequest& request, bool* cached = nullptr);
+  std::shared_ptr<const SpanStats> span_for(const TrailSet& trails, const std::string& dataset_key,
+                                            const Query& query, const TileRequest& request,
+                                            bool* cached = nullptr);
 
   /// Drops every cached span of a dataset (call when it is deleted or replaced).
   void forget_dataset(std::string_view dataset_key);

@@ -23,7 +23,9 @@ namespace trailscope::density {
 struct Image {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgba;  ///< 4 bytes per pixel
-  const std::uint8_t* pixel(int x, int y) const { return &rgba[(static_cast<std::size_t>(y) * width + x) * 4]; }
+  const std::uint8_t* pixel(int x, int y) const {
+    return &rgba[(static_cast<std::size_t>(y) * width + x) * 4];
+  }
 };
 
 struct ShadeOptions {

@@ -25,9 +25,9 @@ const char* to_string(How h) noexcept;
 inline constexpr std::size_t kMaxCdfPoints = 4096;
 
 struct SpanStats {
-  bool empty = true;         ///< no data at all: everything normalises to 0
-  double lo = 0, hi = 0;     ///< smallest and largest sample
-  std::uint64_t samples = 0; ///< data pixels the span was computed from
+  bool empty = true;               ///< no data at all: everything normalises to 0
+  double lo = 0, hi = 0;           ///< smallest and largest sample
+  std::uint64_t samples = 0;       ///< data pixels the span was computed from
   std::vector<double> cdf_values;  ///< ascending distinct sample values (or quantiles), first lo, last hi
   std::vector<double> cdf;         ///< fraction of samples <= cdf_values[k]; last is 1
 

@@ -44,9 +44,15 @@ TileId parent(const TileId& t);
 std::array<TileId, 4> children(const TileId& t);
 
 /// Edge length of any tile at zoom z in 32-bit Mercator units (2^(32−z)); z in 0..32.
-constexpr std::int64_t tile_size_units(int z) { return std::int64_t{1} << (32 - z); }
+constexpr std::int64_t tile_size_units(int z) {
+  return std::int64_t{1} << (32 - z);
+}
 /// North-west corner of a tile in 32-bit Mercator units (x, y), exact.
-constexpr std::int64_t tile_origin_x(const TileId& t) { return std::int64_t{t.x} * tile_size_units(t.z); }
-constexpr std::int64_t tile_origin_y(const TileId& t) { return std::int64_t{t.y} * tile_size_units(t.z); }
+constexpr std::int64_t tile_origin_x(const TileId& t) {
+  return std::int64_t{t.x} * tile_size_units(t.z);
+}
+constexpr std::int64_t tile_origin_y(const TileId& t) {
+  return std::int64_t{t.y} * tile_size_units(t.z);
+}
 
 }  // namespace trailscope::geo
