@@ -1,12 +1,19 @@
 // density_lines: segment preparation (exact integer clipping of each segment's pixel walk to the canvas)
 // and the dispatch between the OpenCL kernel and the reference (density_lines_ref.cpp).
 //
-// Why `auto` does not pick PoCL's CPU device: on the 2-core build machine the kernel's atomic scatter
-// (one work-item per segment, atomic_inc per pixel) ran the Europe SO6 day's z=4 tiles in several times
-// the reference's time (see the measurements in the density README section of the report / tests); PoCL
-// atomics on a CPU are locked RMW operations on shared cache lines, while the reference adds into a
-// private grid per thread. A GPU has the bandwidth and native atomics to gain on large inputs, so `auto`
-// considers GPUs/accelerators only, from kAutoOpenClMinSegments segments.
+// Why `auto` never picks PoCL's CPU device. Measured on the 2-core build machine (PoCL 3.1, Europe SO6
+// day, median of 25 runs, time of density_lines alone, same prepared segments):
+//   canvas                      segments  pixel visits   count: ref / PoCL     altitude: ref / PoCL
+//   tile 3/4/2, 256²              96,351     1,027,275     3.4 /  6.6 ms        3.9 /  23 ms
+//   tile 4/8/5, 256²              74,794     1,469,235     4.9 / 13.3 ms        7.6 /  48 ms
+//   tile 4/8/5, 512²              74,794     2,933,608    12.3 / 34.1 ms       25.7 / 114 ms
+//   Europe at z=4, 627×625       127,536     2,633,703    12.1 / 24.2 ms       16.8 /  73 ms
+// The kernel's scatter (one work-item per segment, an atomic per pixel) is 2–3× slower than the
+// reference for counts and 3–6× for values (64-bit atomics): on a CPU, OpenCL atomics are locked
+// read-modify-writes on shared cache lines, while the reference adds into a private grid per thread and
+// sums the grids. A GPU has native atomics and the bandwidth to gain on large inputs, so `auto`
+// considers GPUs and accelerators only, from kAutoOpenClMinSegments segments (a threshold chosen
+// without a GPU measurement yet: revisit it with tests/bench on one).
 #include "trailscope/density/density_lines.hpp"
 
 #include <tbb/parallel_for.h>

@@ -134,7 +134,12 @@ bool choose(Candidate& out, std::string& reason) {
 
 void initialise(State& s) {
   Candidate c;
-  if (!choose(c, s.reason)) return;
+  try {
+    if (!choose(c, s.reason)) return;
+  } catch (const cl::Error& e) {  // a driver failing a device query
+    s.reason = "cannot enumerate OpenCL devices: " + describe(e);
+    return;
+  }
   try {
     DeviceContext& ctx = s.ctx;
     ctx.platform = c.platform;

@@ -15,7 +15,7 @@ struct Flight {
   std::uint32_t begin = 0, end = 0;  ///< point range
   double t_min = 0, t_max = 0;       ///< Unix seconds
   float lat_min = 0, lat_max = 0, lon_min = 0, lon_max = 0;  ///< degrees; lon extent may cross 180
-  float alt_min = 0, alt_max = 0;    ///< metres (NaN-free: unknown altitudes are ignored)
+  float alt_min = 0, alt_max = 0;    ///< metres over the known altitudes; NaN when no point has one
   bool crosses_antimeridian = false; ///< some consecutive pair has |Δlon| > 180°
   std::uint32_t size() const { return end - begin; }
 };

@@ -1,6 +1,6 @@
 #pragma once
 // Collects raw samples from any reader and turns them into flights: groups by (icao24, callsign), sorts
-// by time, drops exact duplicates, splits at gaps longer than limits::kFlightGapSeconds, and computes the
+// by time, keeps the first of several samples with the same time (later ones count as duplicates), splits at gaps longer than limits::kFlightGapSeconds, and computes the
 // per-flight extents. Out-of-order input is fine; the builder sorts.
 #include <cstdint>
 #include <limits>
@@ -41,7 +41,8 @@ class TrailSetBuilder {
   };
 
   /// Builds the TrailSet; flights are ordered by start time (then icao24, callsign), so that flights
-  /// near in time are near in memory. Leaves the builder empty. `gap_seconds` overrides the split gap.
+  /// near in time are near in memory. Leaves the builder empty. `gap_seconds` overrides the split gap;
+  /// <= 0 means limits::kFlightGapSeconds, +infinity never splits (SO6, whose flights carry their own ids).
   TrailSet build(Stats* stats = nullptr, double gap_seconds = -1.0);
 
  private:
