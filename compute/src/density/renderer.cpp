@@ -1,6 +1,7 @@
 #include "trailscope/density/renderer.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <bit>
 #include <cmath>
 #include <cstdio>

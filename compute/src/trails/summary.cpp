@@ -12,6 +12,7 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trails/point_filter.hpp"
 
 namespace trailscope {
 
@@ -87,36 +88,65 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
     if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
   const std::size_t alt_bins = static_cast<std::size_t>(top_alt / alt_unit / alt_bin_w) + 1;
 
+  const detail::PointFilter filter(q);
+  const double alt_scale = 1.0 / (alt_unit * alt_bin_w);
+  const double inv_bin = 1.0 / bin;
   std::vector<std::uint32_t> matched(flights.size(), 0);
+
+  // One flight's points into an accumulator. Points are time-sorted, so the time bin only moves forward
+  // and is advanced by comparison instead of a division per point. kAll: every point passes.
+  const auto scan = [&]<bool kAll>(const Flight& f, Acc& acc) -> std::uint32_t {
+    std::uint32_t n = 0;
+    std::size_t tb = 0;
+    double edge = -std::numeric_limits<double>::infinity();
+    float vmin = std::numeric_limits<float>::infinity(), vmax = -vmin;
+    double vsum = 0;
+    std::uint64_t vn = 0;
+    double first = 0, last = 0;
+    for (std::size_t i = f.begin; i < f.end; ++i) {
+      if constexpr (!kAll) {
+        if (!filter(pts, i)) continue;
+      }
+      const double t = pts.t[i];
+      if (n++ == 0) first = t;
+      last = t;
+      if (t >= edge) {
+        tb = std::min(static_cast<std::size_t>(std::max(0.0, (t - t_origin) * inv_bin)), time_bins - 1);
+        edge = tb + 1 == time_bins ? std::numeric_limits<double>::infinity() : t_origin + (tb + 1) * bin;
+        while (t >= edge && tb + 1 < time_bins) edge = t_origin + (++tb + 1) * bin;
+      }
+      ++acc.time[tb];
+      const float a = pts.alt[i];
+      if (a == a) {
+        // Altitudes are float metres; one converted from a round flight level (FL100 = 3048 m) must
+        // land in the bin that starts at it, not a hair below, hence the nudge.
+        const double ab = a * alt_scale + kAltEdgeNudge;
+        ++acc.alt[ab <= 0 ? 0 : std::min(static_cast<std::size_t>(ab), alt_bins - 1)];
+      }
+      const float v = pts.speed[i];
+      if (v == v) {
+        ++vn, vsum += v;
+        vmin = std::min(vmin, v), vmax = std::max(vmax, v);
+        const float sb = v * static_cast<float>(1.0 / kSpeedBin);
+        ++acc.speed[sb <= 0 ? 0 : std::min<std::size_t>(static_cast<std::size_t>(sb), kSpeedBins - 1)];
+      }
+    }
+    if (n) {
+      acc.t_min = std::min(acc.t_min, first), acc.t_max = std::max(acc.t_max, last);
+      acc.speed_n += vn, acc.speed_sum += vsum;
+      if (vn) acc.speed_min = std::min<double>(acc.speed_min, vmin), acc.speed_max = std::max<double>(acc.speed_max, vmax);
+    }
+    return n;
+  };
+
   Acc total = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, flights.size(), 16), Acc(time_bins, alt_bins),
+      tbb::blocked_range<std::size_t>(0, flights.size(), 64), Acc(time_bins, alt_bins),
       [&](const tbb::blocked_range<std::size_t>& r, Acc acc) {
         for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
           const Flight& f = flights[fi];
           if (!q.may_match(f)) continue;
-          std::uint32_t n = 0;
-          for (std::size_t i = f.begin; i < f.end; ++i) {
-            if (!q.matches_point(pts, i)) continue;
-            ++n;
-            const double t = pts.t[i];
-            acc.t_min = std::min(acc.t_min, t), acc.t_max = std::max(acc.t_max, t);
-            const auto tb = static_cast<std::size_t>((t - t_origin) / bin);
-            ++acc.time[std::min(tb, time_bins - 1)];
-            const float a = pts.alt[i];
-            if (a == a) {
-              // Altitudes are float metres; one converted from a round flight level (FL100 = 3048 m) must
-              // land in the bin that starts at it, not a hair below, hence the 0.1 ft / 0.03 m nudge.
-              const double ab = std::max(0.0, a / alt_unit / alt_bin_w + kAltEdgeNudge);
-              ++acc.alt[std::min(static_cast<std::size_t>(ab), alt_bins - 1)];
-            }
-            const float v = pts.speed[i];
-            if (v == v) {
-              ++acc.speed_n, acc.speed_sum += v;
-              acc.speed_min = std::min<double>(acc.speed_min, v), acc.speed_max = std::max<double>(acc.speed_max, v);
-              const auto sb = static_cast<std::size_t>(std::max(0.0f, v) / kSpeedBin);
-              ++acc.speed[std::min<std::size_t>(sb, kSpeedBins - 1)];
-            }
-          }
+          const std::uint32_t n =
+              filter.contains(f) ? scan.template operator()<true>(f, acc) : scan.template operator()<false>(f, acc);
           matched[fi] = n;
           acc.points += n;
         }
@@ -194,6 +224,7 @@ FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, s
     throw invalid_argument("page_size", "page_size must lie in 1..1000");
   const auto& pts = set.points();
   const auto& flights = set.flights();
+  const detail::PointFilter filter(q);
   std::vector<FlightRow> rows(flights.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, flights.size(), 16), [&](const auto& r) {
     for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
@@ -202,7 +233,7 @@ FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, s
       FlightRow& row = rows[fi];
       row.alt_max_m = std::numeric_limits<double>::quiet_NaN();
       for (std::size_t i = f.begin; i < f.end; ++i) {
-        if (!q.matches_point(pts, i)) continue;
+        if (!filter(pts, i)) continue;
         if (!row.points++) row.t_start = pts.t[i];
         row.t_end = pts.t[i];
         const float a = pts.alt[i];

@@ -10,9 +10,10 @@
 // very pixels the tiles show). When L_s < L it is an estimate: a pixel at L is 2^(L−L_s) times narrower,
 // and the number of lines crossing a square grows with its side, so counts are scaled by 2^(L_s−L) (and,
 // without smoothing, floored at 1, since a drawn pixel at L has count >= 1); the KDE radius is scaled by
-// the same factor; means are not scaled. Either way every tile of the level gets the same span, which
-// is what keeps neighbouring tiles seamless.
-#include <chrono>
+// the same factor; means are not scaled. Traffic converging on a point (an airport) does not thin out
+// with zoom, so above L_s such pixels exceed the estimated span and take the top colour — as they would
+// near the top of an exact eq_hist anyway. Either way every tile of the level gets the same span, which
+// is what keeps neighbouring tiles seamless. The span is computed on the request's backend.
 #include <cstdint>
 #include <list>
 #include <memory>
