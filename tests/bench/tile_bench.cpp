@@ -5,7 +5,7 @@
 // --clickhouse, the adsb.exposed-style tile in ClickHouse 18.16 (points per pixel by integer shifts of
 // UInt32 Mercator columns, GROUP BY pixel) over the same points, checked against a C++ point raster.
 //
-//   tile_bench [--so6 PATH] [--demo-flights N] [--reps 15] [--clickhouse URL] [--ch-reps 10]
+//   tile_bench [--so6 PATH] [--demo-flights N] [--reps 15] [--demo-reps 7] [--clickhouse URL] [--ch-reps 10]
 //
 // Data sets: the Europe SO6 day (--so6; drawn with max_gap = +inf: its Douglas-Peucker segments are
 // long), and, with --demo-flights, the generated US day (default gap).
@@ -53,7 +53,9 @@ static std::string tile_name(const ts::geo::TileId& t) { return ts::geo::to_stri
 int main(int argc, char** argv) {
   try {
     const Args a(argc, argv);
-    const int reps = static_cast<int>(a.num("reps", 15));
+    const int reps_default = static_cast<int>(a.num("reps", 15));
+    // The demo tiles cost up to seconds each when cold: fewer runs (--demo-reps) keep the script short.
+    const int demo_reps = static_cast<int>(a.num("demo-reps", std::min(reps_default, 7)));
     const int ch_reps = static_cast<int>(a.num("ch-reps", 10));
     const ts::Query all;  // no filter: the whole day
 
@@ -95,6 +97,7 @@ int main(int argc, char** argv) {
 
     std::map<std::string, double> ts_cold, ts_warm, ts_agg;  // "<data>/<tile>" → cpu p50
     for (const DataCase& d : data) {
+      const int reps = d.name == "demo" ? demo_reps : reps_default;
       for (const TileCase& tc : d.tiles) {
         const std::string key = d.name + "/" + tile_name(tc.tile);
         for (const ts::Backend b : {ts::Backend::cpu, ts::Backend::opencl}) {

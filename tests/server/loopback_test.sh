@@ -47,6 +47,14 @@ check "europe flights" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd[
 summary=$(curl -s "$URL/api/v1/datasets/europe/summary?t0=2018-01-01T08:00:00Z&t1=2018-01-01T10:00:00Z&bbox=-5,45,10,55")
 check "summary has flights" True "$(echo "$summary" | json 'd["flights"] > 100')"
 
+# Progress over the WebSocket while a second upload is ingested: queued first, monotonic, done last.
+ws=$(node --experimental-websocket "$(dirname "$0")/ws_events.mjs" "$URL" "$SO6" europe2 2>/dev/null)
+check "ws: first event is queued" queued "$(echo "$ws" | json 'd.get("first")')"
+check "ws: a running event" True "$(echo "$ws" | json 'd.get("running")')"
+check "ws: progress is monotonic" True "$(echo "$ws" | json 'd.get("monotonic")')"
+check "ws: last event is done" done "$(echo "$ws" | json 'd.get("last")')"
+check "ws: result names the flights" 11043 "$(echo "$ws" | json 'd.get("flights")')"
+
 # Errors: exact status and the parameter named.
 check "bad t0 status" 400 "$(curl -s -o "$TMP/e.json" -w '%{http_code}' "$URL/api/v1/datasets/europe/summary?t0=soon")"
 check "bad t0 param" t0 "$(json 'd["param"]' < "$TMP/e.json")"
