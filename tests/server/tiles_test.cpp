@@ -1,0 +1,111 @@
+// The density tile route over the real renderer: PNG bytes, ETag and 304, the cache, and errors that
+// name their parameter.
+#include <gtest/gtest.h>
+
+#include "routes/app.hpp"
+#include "store/embedded_store.hpp"
+#include "test_support.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/trails/trail_set_builder.hpp"
+
+namespace trailscope::server {
+namespace {
+
+class TilesTest : public ::testing::Test {
+ protected:
+  TilesTest() {
+    store = std::make_shared<EmbeddedStore>(tmp.path());
+    TrailSetBuilder b;
+    // A flight from Amsterdam towards Frankfurt, one sample a minute.
+    for (int i = 0; i <= 60; ++i) {
+      Sample s;
+      s.t = 1514764800.0 + i * 60, s.lat = 52.3f - i * 0.035f, s.lon = 4.76f + i * 0.06f, s.alt = 10000, s.speed = 220;
+      b.add("4ca1d0", "KLM1", s);
+    }
+    auto ds = std::make_shared<Dataset>();
+    ds->id = "nl", ds->name = "nl", ds->format = "test", ds->created = "2026-01-01T00:00:00Z";
+    ds->trails = std::make_shared<const TrailSet>(b.build());
+    store->put(ds);
+    app = std::make_unique<App>(store, store->upload_dir(), std::filesystem::path(), limits::kTileCacheBytes);
+    router = make_router(*app);
+  }
+  Response get(const std::string& path, std::map<std::string, std::string> query = {},
+               std::map<std::string, std::string> headers = {}) {
+    Request r;
+    r.method = "GET", r.path = path, r.query = std::move(query), r.headers = std::move(headers);
+    return router.handle(r);
+  }
+  std::string header(const Response& r, const std::string& name) {
+    for (const auto& [k, v] : r.headers)
+      if (k == name) return v;
+    return "";
+  }
+  void expect_error(const Response& r, int status, const std::string& param) {
+    EXPECT_EQ(r.status, status) << r.body;
+    EXPECT_EQ(r.content_type, "application/json");
+    EXPECT_EQ(nlohmann::json::parse(r.body).at("param"), param) << r.body;
+  }
+
+  test::TempDir tmp;
+  std::shared_ptr<EmbeddedStore> store;
+  std::unique_ptr<App> app;
+  Router router;
+};
+
+// z = 6 tile holding Amsterdam (lon 4.76, lat 52.3): x = floor((4.76+180)/360·64) = 32, y = 21.
+constexpr const char* kTile = "/tiles/nl/density/6/32/21.png";
+
+TEST_F(TilesTest, PngWithEtagAndCache) {
+  const Response r = get(kTile);
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(r.content_type, "image/png");
+  ASSERT_GT(r.body.size(), 8u);
+  EXPECT_EQ(r.body.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const std::string etag = header(r, "ETag");
+  EXPECT_EQ(etag.size(), 18u);
+  EXPECT_FALSE(header(r, "Cache-Control").empty());
+  EXPECT_EQ(app->tiles.entries(), 1u);
+  // The same request again is served from the cache with the same bytes.
+  const Response again = get(kTile);
+  EXPECT_EQ(again.body, r.body);
+  EXPECT_EQ(app->tiles.entries(), 1u);
+  // If-None-Match with the ETag: 304, no body.
+  const Response not_modified = get(kTile, {}, {{"if-none-match", etag}});
+  EXPECT_EQ(not_modified.status, 304);
+  EXPECT_TRUE(not_modified.body.empty());
+  EXPECT_EQ(header(not_modified, "ETag"), etag);
+  // Any input that changes the bytes changes the ETag.
+  for (const auto& q : std::vector<std::map<std::string, std::string>>{
+           {{"cmap", "viridis"}}, {{"how", "log"}}, {{"value", "altitude"}}, {{"size", "512"}}, {{"kernel", "2"}},
+           {{"t0", "1514765000"}}}) {
+    const Response other = get(kTile, q);
+    ASSERT_EQ(other.status, 200) << q.begin()->first << ": " << other.body;
+    EXPECT_NE(header(other, "ETag"), etag) << q.begin()->first;
+  }
+}
+
+TEST_F(TilesTest, EmptyTileIsATransparentPng) {
+  const Response r = get("/tiles/nl/density/6/0/0.png");
+  ASSERT_EQ(r.status, 200);
+  EXPECT_EQ(r.content_type, "image/png");
+}
+
+TEST_F(TilesTest, ErrorsNameTheParameter) {
+  expect_error(get("/tiles/nl/density/23/0/0.png"), 400, "z");
+  expect_error(get("/tiles/nl/density/3/8/0.png"), 400, "x");
+  expect_error(get("/tiles/nl/density/3/0/-1.png"), 400, "y");
+  expect_error(get("/tiles/nl/density/a/0/0.png"), 400, "z");
+  expect_error(get(kTile, {{"value", "heat"}}), 400, "value");
+  expect_error(get(kTile, {{"how", "cubic"}}), 400, "how");
+  expect_error(get(kTile, {{"cmap", "rainbow"}}), 400, "cmap");
+  expect_error(get(kTile, {{"size", "300"}}), 400, "size");
+  expect_error(get(kTile, {{"kernel", "33"}}), 400, "kernel");
+  expect_error(get(kTile, {{"t0", "late"}}), 400, "t0");
+  expect_error(get(kTile, {{"zoom", "1"}}), 400, "zoom");
+  expect_error(get("/tiles/none/density/0/0/0.png"), 404, "dataset");
+  // A malformed request never gets a 304, whatever it sends as If-None-Match.
+  expect_error(get(kTile, {{"cmap", "rainbow"}}, {{"if-none-match", "*"}}), 400, "cmap");
+}
+
+}  // namespace
+}  // namespace trailscope::server
