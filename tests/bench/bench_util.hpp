@@ -581,7 +581,8 @@ inline std::string peer_where(const trailscope::Query& q, bool with_key) {
   return w;
 }
 
-/// Mirrors the private constant of compute/src/trails/summary.cpp (a change there shows up as a mismatch).
+/// Mirrors the private constant of compute/src/trails/summary.cpp (a change there shows up as a mismatch,
+/// with the differing bins listed).
 inline constexpr double kAltEdgeNudge = 1e-4;
 
 /// The same summary as trailscope::summarize with default options (ft altitude bins of 1000 ft, top 10),
@@ -594,12 +595,18 @@ inline std::vector<std::string> peer_summary_sql(const std::string& table, const
                                                  const trailscope::Summary& ours, bool with_key) {
   const std::string w = peer_where(q, with_key);
   const auto tb = ours.time_histogram.counts.size(), ab = ours.altitude_histogram.counts.size();
-  const std::string time_bin = "toUInt32(least(" + std::to_string(tb - 1) + ", floor((t - " +
-                               lit(ours.time_histogram.t0) + ") / " + lit(ours.time_histogram.bin_seconds) + ")))";
-  // summary.cpp bins altitude a (m) as floor(max(0, a / 0.3048 / 1000 + kAltEdgeNudge)), the nudge
-  // (1e-4 of a bin) putting values a rounding error below a bin edge (FL300 = 9144 m) into the upper bin.
+  // The binning of compute/src/trails/summary.cpp, operation for operation (so that edge cases round the
+  // same way): time bin = min(trunc(max(0, (t − t0) · (1/bin))), n − 1), moved up one bin when t is at or
+  // past the next edge t0 + (bin + 1) · bin_seconds; altitude bin (a in metres, Float32 promoted to
+  // Float64 as in C++) = min(trunc(a · (1/(0.3048 · 1000)) + kAltEdgeNudge), n − 1), 0 when ≤ 0; the
+  // nudge (1e-4 of a bin) puts values a rounding error below an edge (FL300 = 9144 m) into the upper bin.
+  const double t0 = ours.time_histogram.t0, bin = ours.time_histogram.bin_seconds;
+  const std::string n1 = std::to_string(tb - 1);
+  const std::string tb0 = "toUInt32(least(" + n1 + ", greatest(0, (t - " + lit(t0) + ") * " + lit(1.0 / bin) + ")))";
+  const std::string time_bin = "(" + tb0 + " + ((" + tb0 + " < " + n1 + ") AND (t >= " + lit(t0) + " + (" + tb0 +
+                               " + 1) * " + lit(bin) + ")))";
   const std::string alt_bin = "if(isNaN(alt), 4294967295, toUInt32(least(" + std::to_string(ab - 1) +
-                              ", floor(greatest(0, alt / 0.3048 / 1000 + " + lit(kAltEdgeNudge) + ")))))";
+                              ", greatest(0, alt * " + lit(1.0 / (0.3048 * 1000.0)) + " + " + lit(kAltEdgeNudge) + "))))";
   const std::string known = "NOT isNaN(speed)";
   return {
       "SELECT count(), uniqExact(flight_id), min(t), max(t), countIf(" + known + "), toFloat64(minIf(speed, " + known +

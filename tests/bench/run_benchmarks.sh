@@ -74,6 +74,21 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
+# The first port from $1 up (in steps of 10) where nothing listens on $1..$1+$2-1 (127.0.0.1), so that a
+# second copy of this script, or someone's ClickHouse, does not make the run fail.
+free_port() {
+  local p=$1 n=${2:-1} k busy
+  for _ in $(seq 1 50); do
+    busy=0
+    for ((k = 0; k < n; k++)); do
+      if (exec 3<>"/dev/tcp/127.0.0.1/$((p + k))") 2>/dev/null; then busy=1; break; fi
+    done
+    [ $busy = 0 ] && { echo "$p"; return 0; }
+    p=$((p + 10))
+  done
+  echo "no free port near $1" >&2
+  return 1
+}
 say() { printf '\n== [%4ds] %s\n' "$(($(date +%s) - T_START))" "$*" | tee -a "$LOG" >&2; }
 meta() { printf '%s\t%s\n' "$1" "$2" >>"$META"; }
 # Records a command line for BENCHMARKS.md: paths relative to the repository root, arguments with
@@ -151,14 +166,16 @@ run "$B/ingest_bench" --file "$OUT/demo_states.csv.gz" --label opensky_csv_gz --
 rm -f "$OUT/demo_states.csv.gz"
 
 # ---------------------------------------------------------------------------------------------------
-say "2. ClickHouse (peer) on 127.0.0.1:$CH_PORT"
+say "2. ClickHouse (peer)"
 CH=
 if command -v clickhouse-server >/dev/null; then
   rm -rf "$CH_DIR"
+  CH_PORT=$(free_port "$CH_PORT" 3)
   CH_STARTED=1
   record bash tests/bench/clickhouse_ctl.sh start "$CH_DIR" "$CH_PORT"
   bash tests/bench/clickhouse_ctl.sh start "$CH_DIR" "$CH_PORT"
   CH=http://127.0.0.1:$CH_PORT
+  echo "ClickHouse $(dpkg-query -W -f='${Version}' clickhouse-server 2>/dev/null) on $CH (PID $(cat "$CH_DIR/clickhouse.pid"))" | tee -a "$LOG" >&2
 else
   echo "clickhouse-server not installed (make deps-bench): the peer comparison is skipped" | tee -a "$LOG" >&2
 fi
@@ -178,6 +195,7 @@ if [ "$CH_STARTED" = 1 ]; then
 fi
 
 # ---------------------------------------------------------------------------------------------------
+PORT=$(free_port "$PORT" 1)
 say "5. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"
 run_log "$BIN" ingest "$SO6" --data-dir "$DATA_DIR" --name europe --quiet

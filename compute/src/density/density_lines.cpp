@@ -1,15 +1,16 @@
 // density_lines: segment preparation (exact integer clipping of each segment's pixel walk to the canvas)
 // and the dispatch between the OpenCL kernel and the reference (density_lines_ref.cpp).
 //
-// Why `auto` never picks PoCL's CPU device. Measured on the 2-core build machine (PoCL 3.1, Europe SO6
-// day, median of 25 runs, time of density_lines alone, same prepared segments):
+// Why `auto` never picks PoCL's CPU device. Measured on the 2-core build machine, idle (PoCL 3.1,
+// Europe SO6 day without gap limit, median of 25 runs, density_lines alone on the same prepared segments):
 //   canvas                      segments  pixel visits   count: ref / PoCL     altitude: ref / PoCL
-//   tile 3/4/2, 256²              96,351     1,027,275     3.4 /  6.6 ms        3.9 /  23 ms
-//   tile 4/8/5, 256²              74,794     1,469,235     4.9 / 13.3 ms        7.6 /  48 ms
-//   tile 4/8/5, 512²              74,794     2,933,608    12.3 / 34.1 ms       25.7 / 114 ms
-//   Europe at z=4, 627×625       127,536     2,633,703    12.1 / 24.2 ms       16.8 /  73 ms
-// The kernel's scatter (one work-item per segment, an atomic per pixel) is 2–3× slower than the
-// reference for counts and 3–6× for values (64-bit atomics): on a CPU, OpenCL atomics are locked
+//   tile 3/4/2, 256²              78,106     1,027,275     2.6 /  3.9 ms        2.8 /  10.4 ms
+//   tile 4/8/5, 256²              65,625     1,469,235     3.1 /  7.5 ms        3.6 /  15.3 ms
+//   tile 4/8/5, 512²              70,314     2,933,608     4.5 / 13.7 ms        6.4 /  29.5 ms
+//   Europe at z=4, 627×625       111,467     2,633,703     4.3 /  9.1 ms        6.2 /  24.6 ms
+//   Europe, 2048×2043            124,552     8,594,587    23.5 / 35.9 ms       80.9 / 115.7 ms
+// The kernel's scatter (one work-item per segment, an atomic per pixel) is 1.5–3× slower than the
+// reference for counts and 1.4–4× for values (64-bit atomics): on a CPU, OpenCL atomics are locked
 // read-modify-writes on shared cache lines, while the reference adds into a private grid per thread and
 // sums the grids. A GPU has native atomics and the bandwidth to gain on large inputs, so `auto`
 // considers GPUs and accelerators only, from kAutoOpenClMinSegments segments (a threshold chosen
@@ -96,6 +97,9 @@ void prepare_one(LineSegments& out, const Grid& grid, std::int64_t ax, std::int6
   if (std::max(cax, cbx) < 0 || std::min(cax, cbx) > w - 1 || std::max(cay, cby) < 0 ||
       std::min(cay, cby) > h - 1)
     return;
+  // A continuing segment within one pixel adds nothing (its only pixel is the one it leaves out). Dense
+  // tracks at low zoom are mostly such segments, so they are not stored at all.
+  if (skip_first && cax == cbx && cay == cby) return;
   const std::int64_t dx = bx - ax, dy = by - ay;
   const int sx = sign(dx), sy = sign(dy);
   const std::int64_t adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
@@ -243,17 +247,44 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
     return false;
   };
 
+  // Without time, altitude, ground or bbox filters every point matches: skip the per-point test.
+  const bool every_point =
+      !query.t0 && !query.t1 && !query.alt_min && !query.alt_max && !query.on_ground && !query.bbox;
+  // When the canvas lies within the world in x, a segment that does not cross 180° has no wrapped copy on
+  // it, and the common case goes straight to prepare_one.
+  const bool canvas_in_world = canvas.origin_x() >= 0 && canvas.end_x() <= kWorld;
+  const Grid grid(p);
+  const std::int64_t ox = canvas.origin_x(), oy = canvas.origin_y();
+  const std::int64_t last_col = canvas.width() - 1, last_row = canvas.height() - 1;
+
   auto draw_flight = [&](const Flight& f, LineSegments& out) {
     if (f.size() < 2 || !query.may_match(f) || !may_meet(f)) return;
-    bool prev_ok = query.matches_point(pts, f.begin);
+    bool prev_ok = every_point || query.matches_point(pts, f.begin);
     bool prev_drawn = false;
     for (std::uint32_t i = f.begin + 1; i < f.end; ++i) {
-      const bool ok = query.matches_point(pts, i);
+      const bool ok = every_point || query.matches_point(pts, i);
       const bool draw = ok && prev_ok && pts.t[i] - pts.t[i - 1] <= max_gap_seconds;
       if (draw) {
-        const double v =
-            values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
-        append_segment(out, canvas, MercPoint{mx[i - 1], my[i - 1]}, MercPoint{mx[i], my[i]}, prev_drawn, v);
+        const std::int64_t ax = std::int64_t{mx[i - 1]} - ox, ay = std::int64_t{my[i - 1]} - oy;
+        const std::int64_t bx = std::int64_t{mx[i]} - ox, by = std::int64_t{my[i]} - oy;
+        if (canvas_in_world && bx - ax <= kHalfWorld && ax - bx <= kHalfWorld) {
+          const std::int64_t cax = grid.cell(ax), cbx = grid.cell(bx), cay = grid.cell(ay),
+                             cby = grid.cell(by);
+          const bool misses = std::max(cax, cbx) < 0 || std::min(cax, cbx) > last_col ||
+                              std::max(cay, cby) < 0 || std::min(cay, cby) > last_row;
+          const bool adds_nothing = prev_drawn && cax == cbx && cay == cby;
+          if (!misses && !adds_nothing) {
+            const double v =
+                values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
+            const bool has_value = with_value && !std::isnan(v);
+            prepare_one(out, grid, ax, ay, bx, by, prev_drawn, has_value ? to_fixed(v) : 0, has_value);
+          }
+        } else {
+          const double v =
+              values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
+          append_segment(out, canvas, MercPoint{mx[i - 1], my[i - 1]}, MercPoint{mx[i], my[i]}, prev_drawn,
+                         v);
+        }
       }
       prev_drawn = draw;
       prev_ok = ok;

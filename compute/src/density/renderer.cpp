@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <list>
+#include <mutex>
+#include <unordered_map>
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/density/colormap.hpp"
@@ -90,14 +93,6 @@ const std::string& empty_png(int size) {
   return size == limits::kTileSizeLarge ? large : small;
 }
 
-std::string span_key(const std::string& dataset_key, const Query& query, const TileRequest& r) {
-  char gap[32];
-  std::snprintf(gap, sizeof gap, "%.17g", r.max_gap_seconds);
-  const char sep = '\x1f';
-  return dataset_key + sep + query.canonical() + sep + to_string(r.value) + sep + std::to_string(r.tile.z) +
-         sep + std::to_string(r.size) + sep + std::to_string(r.kernel_radius) + sep + gap;
-}
-
 }  // namespace
 
 void validate(const TileRequest& request) {
@@ -120,79 +115,171 @@ Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& ca
   return shade(res.raster, *span, options.shade);
 }
 
+namespace {
+
+// Where a level's span comes from (THE SHARED SPAN in renderer.hpp).
+struct SpanPlan {
+  bool empty = true;   // no data under the query
+  geo::LonLatBox box;  // the query's data extent
+  int zs = 0;          // zoom of the coarse aggregate
+  double shrink = 1;   // pixel width at z over pixel width at zs, 2^(zs−z)
+  double radius = 0;   // KDE radius at zs (pixels)
+};
+
+SpanPlan plan_span(const TrailSet& trails, const Query& query, int z, int tile_size, int kernel_radius) {
+  SpanPlan plan;
+  if (!query_extent(trails, query, plan.box)) return plan;
+  const int log2_tile = std::countr_zero(static_cast<unsigned>(tile_size));
+  plan.zs = z;
+  while (plan.zs > 0 && !fits(plan.box, plan.zs, log2_tile, kSpanCanvasPx)) --plan.zs;
+  plan.shrink = std::ldexp(1.0, plan.zs - z);
+  plan.radius = kernel_radius * plan.shrink >= 0.5 ? kernel_radius * plan.shrink : 0.0;
+  plan.empty = false;
+  return plan;
+}
+
+// The unscaled span of the coarse aggregate.
+SpanStats coarse_span(const TrailSet& trails, const Query& query, DensityValue value, const SpanPlan& plan,
+                      int tile_size, double max_gap_seconds, Backend backend) {
+  AggregateOptions options;
+  options.value = value;
+  options.kernel_radius = plan.radius;
+  options.max_gap_seconds = max_gap_seconds;
+  options.backend = backend;
+  return compute_span(
+      aggregate(trails, query, Canvas::for_zoom(plan.box, plan.zs, tile_size), options).raster);
+}
+
+// From the coarse span to the level's: counts scale with the pixel width and, unsmoothed, are >= 1.
+SpanStats level_span(const SpanStats& coarse, DensityValue value, const SpanPlan& plan, int kernel_radius) {
+  const bool count = value == DensityValue::count;
+  return rescale_span(coarse, count ? plan.shrink : 1.0, count && kernel_radius == 0 ? 1.0 : -1e300);
+}
+
+std::string gap_text(double g) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", g);
+  return buf;
+}
+
+}  // namespace
+
 SpanStats estimate_span(const TrailSet& trails, const Query& query, DensityValue value, int z, int tile_size,
                         int kernel_radius, double max_gap_seconds, Backend backend) {
   geo::validate_tile(geo::TileId{z, 0, 0});
   validate_size(tile_size);
   validate_kernel_radius(kernel_radius);
   validate_gap(max_gap_seconds);
-  geo::LonLatBox box;
-  if (!query_extent(trails, query, box)) return SpanStats{};
-  const int log2_tile = std::countr_zero(static_cast<unsigned>(tile_size));
-  int zs = z;
-  while (zs > 0 && !fits(box, zs, log2_tile, kSpanCanvasPx)) --zs;
-  const Canvas coarse = Canvas::for_zoom(box, zs, tile_size);
-  const double shrink = std::ldexp(1.0, zs - z);  // pixel width at z over pixel width at zs
-  AggregateOptions options;
-  options.value = value;
-  options.kernel_radius = kernel_radius * shrink >= 0.5 ? kernel_radius * shrink : 0.0;
-  options.max_gap_seconds = max_gap_seconds;
-  options.backend = backend;
-  const AggregateResult res = aggregate(trails, query, coarse, options);
-  const bool count = value == DensityValue::count;
-  return compute_span(res.raster, count ? shrink : 1.0, count && kernel_radius == 0 ? 1.0 : -1e300);
+  const SpanPlan plan = plan_span(trails, query, z, tile_size, kernel_radius);
+  if (plan.empty) return SpanStats{};
+  return level_span(coarse_span(trails, query, value, plan, tile_size, max_gap_seconds, backend), value, plan,
+                    kernel_radius);
 }
 
-struct DensityRenderer::Slot {
-  std::shared_future<std::shared_ptr<const SpanStats>> span;
-  Lru::iterator position;
+// A thread-safe LRU of spans computed on demand. A request for a key whose computation is under way
+// waits for it (a shared_future) instead of repeating it; a failed computation is not cached.
+class DensityRenderer::Cache {
+ public:
+  explicit Cache(std::size_t capacity) : capacity_(std::max<std::size_t>(1, capacity)) {}
+
+  template <class Compute>
+  std::shared_ptr<const SpanStats> get(const std::string& key, Compute&& compute, bool* cached) {
+    std::shared_ptr<Slot> slot;
+    std::promise<std::shared_ptr<const SpanStats>> promise;
+    bool mine = false;
+    {
+      std::lock_guard lock(mutex_);
+      if (auto it = slots_.find(key); it != slots_.end()) {
+        slot = it->second;
+        lru_.splice(lru_.begin(), lru_, slot->position);
+      } else {
+        slot = std::make_shared<Slot>();
+        slot->value = promise.get_future().share();
+        lru_.push_front(key);
+        slot->position = lru_.begin();
+        slots_.emplace(key, slot);
+        mine = true;
+        while (slots_.size() > capacity_) {
+          slots_.erase(lru_.back());
+          lru_.pop_back();
+        }
+      }
+    }
+    if (mine) {
+      try {
+        promise.set_value(std::make_shared<const SpanStats>(compute()));
+      } catch (...) {
+        promise.set_exception(std::current_exception());
+        std::lock_guard lock(mutex_);
+        if (auto it = slots_.find(key); it != slots_.end() && it->second == slot) {
+          lru_.erase(slot->position);
+          slots_.erase(it);
+        }
+      }
+    }
+    if (cached) *cached = !mine;
+    return slot->value.get();  // rethrows a failure
+  }
+
+  void forget_prefix(const std::string& prefix) {
+    std::lock_guard lock(mutex_);
+    for (auto it = lru_.begin(); it != lru_.end();) {
+      if (it->compare(0, prefix.size(), prefix) == 0) {
+        slots_.erase(*it);
+        it = lru_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+
+  std::size_t size() const {
+    std::lock_guard lock(mutex_);
+    return slots_.size();
+  }
+
+ private:
+  struct Slot {
+    std::shared_future<std::shared_ptr<const SpanStats>> value;
+    std::list<std::string>::iterator position;
+  };
+  std::size_t capacity_;
+  mutable std::mutex mutex_;
+  std::list<std::string> lru_;  // most recent first
+  std::unordered_map<std::string, std::shared_ptr<Slot>> slots_;
 };
 
 DensityRenderer::DensityRenderer(std::size_t max_cached_spans)
-    : capacity_(std::max<std::size_t>(1, max_cached_spans)) {}
+    : spans_(std::make_unique<Cache>(max_cached_spans)), coarse_(std::make_unique<Cache>(max_cached_spans)) {}
+
+DensityRenderer::~DensityRenderer() = default;
 
 std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trails,
                                                            const std::string& dataset_key, const Query& query,
                                                            const TileRequest& request, bool* cached) {
-  const std::string key = span_key(dataset_key, query, request);
-  std::shared_ptr<Slot> slot;
-  std::promise<std::shared_ptr<const SpanStats>> promise;
-  bool compute = false;
-  {
-    std::lock_guard lock(mutex_);
-    if (auto it = slots_.find(key); it != slots_.end()) {
-      slot = it->second;
-      lru_.splice(lru_.begin(), lru_, slot->position);
-    } else {
-      slot = std::make_shared<Slot>();
-      slot->span = promise.get_future().share();
-      lru_.push_front(key);
-      slot->position = lru_.begin();
-      slots_.emplace(key, slot);
-      compute = true;
-      while (slots_.size() > capacity_) {
-        slots_.erase(lru_.back());
-        lru_.pop_back();
-      }
-    }
-  }
-  if (compute) {
-    try {
-      promise.set_value(std::make_shared<const SpanStats>(
-          estimate_span(trails, query, request.value, request.tile.z, request.size, request.kernel_radius,
-                        request.max_gap_seconds, request.backend)));
-    } catch (...) {
-      promise.set_exception(std::current_exception());
-      // A failed computation is not cached: the next request tries again.
-      std::lock_guard lock(mutex_);
-      if (auto it = slots_.find(key); it != slots_.end() && it->second == slot) {
-        lru_.erase(slot->position);
-        slots_.erase(it);
-      }
-    }
-  }
-  if (cached) *cached = !compute;
-  return slot->span.get();
+  validate(request);
+  const char sep = '\x1f';
+  const std::string base = dataset_key + sep + query.canonical() + sep + to_string(request.value) + sep;
+  const std::string gap = gap_text(request.max_gap_seconds);
+  const std::string key = base + "z" + std::to_string(request.tile.z) + sep + std::to_string(request.size) +
+                          sep + std::to_string(request.kernel_radius) + sep + gap;
+  return spans_->get(
+      key,
+      [&] {
+        const SpanPlan plan = plan_span(trails, query, request.tile.z, request.size, request.kernel_radius);
+        if (plan.empty) return SpanStats{};
+        const std::string coarse_key = base + "zs" + std::to_string(plan.zs) + sep +
+                                       std::to_string(request.size) + sep + gap_text(plan.radius) + sep + gap;
+        const auto coarse = coarse_->get(
+            coarse_key,
+            [&] {
+              return coarse_span(trails, query, request.value, plan, request.size, request.max_gap_seconds,
+                                 request.backend);
+            },
+            nullptr);
+        return level_span(*coarse, request.value, plan, request.kernel_radius);
+      },
+      cached);
 }
 
 TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::string& dataset_key,
@@ -227,20 +314,12 @@ TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::strin
 
 void DensityRenderer::forget_dataset(std::string_view dataset_key) {
   const std::string prefix = std::string(dataset_key) + '\x1f';
-  std::lock_guard lock(mutex_);
-  for (auto it = lru_.begin(); it != lru_.end();) {
-    if (it->compare(0, prefix.size(), prefix) == 0) {
-      slots_.erase(*it);
-      it = lru_.erase(it);
-    } else {
-      ++it;
-    }
-  }
+  spans_->forget_prefix(prefix);
+  coarse_->forget_prefix(prefix);
 }
 
 std::size_t DensityRenderer::cached_spans() const {
-  std::lock_guard lock(mutex_);
-  return slots_.size();
+  return spans_->size();
 }
 
 }  // namespace trailscope::density

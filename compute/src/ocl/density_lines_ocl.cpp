@@ -1,20 +1,15 @@
 // Host side of compute/kernels/density_lines.cl (see density/density_lines.hpp for what it computes).
 #include "ocl/ops.hpp"
 
+#include <algorithm>
+
+#include "trailscope/core/error.hpp"
 #include "trailscope/density/density_lines.hpp"
 #ifdef TRAILSCOPE_HAVE_OPENCL
 #include "ocl/runtime.hpp"
 #endif
 
 namespace trailscope::ocl {
-
-const std::vector<std::pair<std::string, std::string>>& kernel_variants() {
-  static const std::vector<std::pair<std::string, std::string>> all = {
-      {"density_lines", ""},
-      {"density_lines", "-DWITH_VALUE=1"},
-  };
-  return all;
-}
 
 #ifdef TRAILSCOPE_HAVE_OPENCL
 std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate& out) {
@@ -63,12 +58,13 @@ std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate
         kernel.setArg(arg++, value_sum);
         kernel.setArg(arg++, value_count);
       }
-      // A fixed work-group size: with NullRange PoCL picks one from the global size and compiles the
-      // kernel again for each new size (~0.1–0.2 s), i.e. for almost every tile. The kernel ignores the
-      // padding work-items (s >= n).
-      constexpr std::size_t kGroup = 64;
-      queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + kGroup - 1) / kGroup * kGroup),
-                                 cl::NDRange(kGroup));
+      // A fixed work-group size (64, or less where the device's limit for this kernel is lower): with
+      // NullRange PoCL picks one from the global size and compiles the kernel again for each new size
+      // (~0.1–0.2 s), i.e. for almost every tile. The kernel ignores the padding work-items (s >= n).
+      const std::size_t group =
+          std::min<std::size_t>(64, kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device));
+      queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
+                                 cl::NDRange(group));
     }
     queue.enqueueReadBuffer(count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.count.data());
     if (s.with_value) {
@@ -87,5 +83,19 @@ std::string density_lines_ocl(const density::LineSegments&, density::Aggregate&)
   return "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)";
 }
 #endif
+
+void warm_up_ops() {
+  // Zero-length segments on a 1×1 canvas, with and without values: both kernel variants. PoCL
+  // specialises a kernel for the launch's grid as well as its work-group size: with a handful of
+  // work-items here, the first real launch still compiled for ~0.1 s; with 2^17 it does not.
+  const density::Canvas canvas(0, 0, 1, 1, 1);
+  for (bool with_value : {false, true}) {
+    density::LineSegments s = density::LineSegments::for_canvas(canvas, with_value);
+    for (int k = 0; k < (1 << 17); ++k) density::append_segment(s, canvas, {0, 0}, {0, 0}, false, 1.0);
+    density::Aggregate out;
+    if (const std::string why = density_lines_ocl(s, out); !why.empty())
+      throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of density_lines failed: " + why);
+  }
+}
 
 }  // namespace trailscope::ocl

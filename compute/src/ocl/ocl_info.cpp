@@ -54,7 +54,9 @@ bool opencl_available() {
 
 void opencl_warm_up() {
 #ifdef TRAILSCOPE_HAVE_OPENCL
-  for (const auto& [name, options] : ocl::kernel_variants()) ocl::program(name, options);
+  std::string why;
+  if (!ocl::device_context(&why)) throw Error(Error::Kind::backend, "backend", "OpenCL unavailable: " + why);
+  ocl::warm_up_ops();
 #else
   throw Error(Error::Kind::backend, "backend", "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)");
 #endif

@@ -4,8 +4,6 @@
 // its result, or the reason it cannot run; it may also throw (ocl/dispatch.hpp treats that as "cannot
 // run").
 #include <string>
-#include <utility>
-#include <vector>
 
 namespace trailscope::density {
 struct LineSegments;
@@ -16,7 +14,9 @@ namespace trailscope::ocl {
 
 std::string density_lines_ocl(const density::LineSegments& segments, density::Aggregate& out);
 
-/// Every (kernel name, build options) pair the ops build, for opencl_warm_up().
-const std::vector<std::pair<std::string, std::string>>& kernel_variants();
+/// Runs every op's kernel variants once on a tiny input, for opencl_warm_up(): that builds the programs
+/// and also makes PoCL compile the kernels for the work-group size the ops use (its first enqueue of a
+/// kernel costs another 0.1–0.15 s otherwise). Throws Error(Kind::backend) on any failure.
+void warm_up_ops();
 
 }  // namespace trailscope::ocl

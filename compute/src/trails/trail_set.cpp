@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "trailscope/geo/web_mercator.hpp"
+
 namespace trailscope {
 
 void PointColumns::reserve(std::size_t n) {
@@ -18,16 +20,6 @@ void PointColumns::resize(std::size_t n) {
   speed.resize(n), track.resize(n), vrate.resize(n), on_ground.resize(n);
 }
 
-namespace {
-// Web Mercator as 32-bit fixed point over the whole world; y grows southwards from the 85.0511° edge.
-constexpr double kTwo32 = 4294967296.0;
-constexpr double kMaxLat = 85.0511287798066;
-
-std::uint32_t to_fixed(double unit) {
-  const double v = std::floor(unit * kTwo32);
-  return static_cast<std::uint32_t>(std::clamp(v, 0.0, kTwo32 - 1.0));
-}
-}  // namespace
 
 void compute_extents(Flight& f, const PointColumns& p) {
   constexpr float inf = std::numeric_limits<float>::infinity();
@@ -52,11 +44,8 @@ TrailSet::TrailSet(PointColumns points, std::vector<Flight> flights)
   merc_y_.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 15), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const double lon = points_.lon[i];
-      const double lat = std::clamp<double>(points_.lat[i], -kMaxLat, kMaxLat);
-      merc_x_[i] = to_fixed((lon + 180.0) / 360.0);
-      const double s = std::sin(lat * M_PI / 180.0);
-      merc_y_[i] = to_fixed(0.5 - std::log((1 + s) / (1 - s)) / (4 * M_PI));
+      merc_x_[i] = geo::lon_to_merc_x(points_.lon[i]);
+      merc_y_[i] = geo::lat_to_merc_y(points_.lat[i]);
     }
   });
   if (flights_.empty()) return;

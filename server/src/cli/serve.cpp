@@ -1,4 +1,5 @@
 #include <iostream>
+#include <thread>
 
 #include "cli/commands.hpp"
 #include "cli/demo_dataset.hpp"
@@ -7,6 +8,7 @@
 #include "store/embedded_store.hpp"
 #include "trailscope/core/backend.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/ocl_info.hpp"
 
 namespace trailscope::cli {
 namespace fs = std::filesystem;
@@ -35,6 +37,11 @@ void add_serve(CLI::App& app) {
                   "folder with vega-datasets' airports.csv and flights-airport.csv (default: web/node_modules/vega-datasets/data)");
   cmd->callback([o] {
     if (!o->backend.empty()) set_default_backend(parse_backend(o->backend, "--backend"));
+    // Compile the kernels now rather than on the first tile (about 1 s with a cold PoCL cache), where
+    // tiles can run on OpenCL: always when asked for, and under `auto` on a GPU.
+    if (default_backend() == Backend::opencl ||
+        (default_backend() == Backend::auto_ && opencl_info().device_type == "gpu"))
+      std::thread([] { opencl_warm_up(); }).detach();
     auto store = std::make_shared<EmbeddedStore>(o->data_dir);
     if (o->demo && !store->contains("demo")) create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);
     std::error_code ec;

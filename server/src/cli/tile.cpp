@@ -1,4 +1,5 @@
 #include <fstream>
+#include <limits>
 #include <iostream>
 
 #include "cli/commands.hpp"
@@ -43,6 +44,7 @@ void add_tile(CLI::App& app) {
     req.how = density::parse_how(o->how, "how");
     req.cmap = o->cmap;
     req.kernel_radius = o->kernel;
+    req.max_gap_seconds = std::numeric_limits<double>::infinity();  // as the tile route: flights are split at ingest
     req.backend = o->backend.empty() ? default_backend() : parse_backend(o->backend, "backend");
     density::DensityRenderer renderer;
     const density::TileResult r = renderer.render_tile(*ds->trails, ds->id + "@" + ds->created, q, req);

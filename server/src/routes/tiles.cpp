@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <limits>
 
 #include "routes/handlers.hpp"
 #include "routes/params.hpp"
@@ -40,6 +41,9 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
   t.how = density::parse_how(how, "how");
   t.cmap = param_or(req, "cmap", "fire");
   t.kernel_radius = static_cast<int>(params::integer(req, "kernel", 0, 0, limits::kMaxKernelRadiusPx));
+  // Flights are already split at long gaps when ingested (SO6 keeps its own flight ids and long
+  // simplified legs), so every segment of a stored flight is drawn.
+  t.max_gap_seconds = std::numeric_limits<double>::infinity();
 
   // Every input that changes the bytes, and nothing else (the backend gives identical bytes).
   const std::string dataset_key = ds->id + "@" + ds->created;

@@ -130,6 +130,25 @@ TEST(Renderer, OneSpanPerZoomIsCachedAndShared) {
   EXPECT_EQ(computed.load(), 1);
 }
 
+TEST(Renderer, ZoomsAboveTheCoarseLevelShareItsAggregate) {
+  // The synthetic extent is 1046 px wide at zoom 6, so zooms >= 6 estimate from the zoom-5 aggregate:
+  // one zoom deeper halves the counts (above the floor of 1).
+  const auto span = [](int z) {
+    return estimate_span(synthetic(), Query{}, DensityValue::count, z, 256, 0, limits::kFlightGapSeconds,
+                         Backend::cpu);
+  };
+  const SpanStats s5 = span(5), s6 = span(6), s7 = span(7);
+  EXPECT_DOUBLE_EQ(s6.hi, s5.hi / 2);
+  EXPECT_DOUBLE_EQ(s7.hi, s5.hi / 4);
+  EXPECT_DOUBLE_EQ(s7.lo, 1.0);
+  EXPECT_EQ(s5.samples, s7.samples);
+  DensityRenderer renderer;
+  bool cached = true;
+  const auto r7 = renderer.span_for(synthetic(), "syn", Query{}, request(TileId{7, 64, 44}), &cached);
+  EXPECT_EQ(r7->cdf_values, s7.cdf_values);
+  EXPECT_EQ(r7->cdf, s7.cdf);
+}
+
 TEST(Renderer, SpanIsExactWhereTheExtentFits) {
   // At zoom 2 the whole world is 1024 px, so the span is computed from the very pixels of the tiles:
   // it must equal the span of all 16 tiles' counts put together.

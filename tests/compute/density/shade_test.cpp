@@ -78,6 +78,19 @@ TEST(Span, ScaleAndFloor) {
   EXPECT_DOUBLE_EQ(e.normalize(5, How::eq_hist), 0.0);
 }
 
+TEST(Span, RescaleEqualsComputingWithTheScale) {
+  const Raster r = raster({1, 1, 2, 3, 3, 3, 8, 20, NAN, 5});
+  for (const auto& [scale, floor] : {std::pair{0.25, 1.0}, std::pair{0.5, -1e300}, std::pair{4.0, 0.0}}) {
+    const SpanStats a = rescale_span(compute_span(r), scale, floor), b = compute_span(r, scale, floor);
+    EXPECT_EQ(a.cdf_values, b.cdf_values);
+    EXPECT_EQ(a.cdf, b.cdf);
+    EXPECT_EQ(a.lo, b.lo);
+    EXPECT_EQ(a.hi, b.hi);
+    EXPECT_EQ(a.samples, b.samples);
+  }
+  EXPECT_TRUE(rescale_span(SpanStats{}, 2.0).empty);
+}
+
 TEST(Span, ParsesHow) {
   EXPECT_EQ(parse_how("log"), How::log);
   EXPECT_STREQ(to_string(How::eq_hist), "eq_hist");

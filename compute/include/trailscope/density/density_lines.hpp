@@ -33,8 +33,8 @@
 // SHARED ENDPOINTS. Consecutive drawn segments of one flight (a run) share an endpoint. Its pixel is
 // counted once: every segment of a run except the first leaves out its FIRST pixel (the one holding its
 // first endpoint), which the previous segment already counted as its last. Consequently a run of
-// segments adds exactly 1 to every pixel it passes through once, a zero-length segment (both samples in
-// one pixel) adds nothing unless it starts a run, and a lone matching sample (no drawn segment) draws
+// segments adds exactly 1 to every pixel it passes through once, a segment within one pixel (zero
+// length, say) adds nothing unless it starts a run, and a lone matching sample (no drawn segment) draws
 // nothing. A pixel's `count` is then the number of segment passes through it, with the vertex pixels of
 // a run counted once.
 //
@@ -84,8 +84,9 @@ struct MercPoint {
 };
 
 /// Segments prepared for one canvas, in the layout the kernel reads: for each segment (clipped to the
-/// canvas; segments that miss it are not stored) the integer state of its walk at the first pixel inside
-/// the canvas. Built by prepare_line_segments() or append_segment(); consumed by density_lines().
+/// canvas; segments that miss it, and continuing segments within one pixel, which add nothing, are not
+/// stored) the integer state of its walk at the first pixel inside the canvas. Built by
+/// prepare_line_segments() or append_segment(); consumed by density_lines().
 struct LineSegments {
   int width = 0, height = 0;        ///< of the canvas they were prepared for
   bool with_value = false;          ///< segments carry a value (altitude/speed) to sum

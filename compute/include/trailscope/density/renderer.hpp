@@ -15,12 +15,9 @@
 // near the top of an exact eq_hist anyway. Either way every tile of the level gets the same span, which
 // is what keeps neighbouring tiles seamless. The span is computed on the request's backend.
 #include <cstdint>
-#include <list>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 
 #include "trailscope/density/aggregate.hpp"
 #include "trailscope/density/png.hpp"
@@ -74,11 +71,17 @@ Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& ca
 SpanStats estimate_span(const TrailSet& trails, const Query& query, DensityValue value, int z, int tile_size,
                         int kernel_radius, double max_gap_seconds, Backend backend);
 
-/// Renders tiles and owns the span cache (LRU, thread-safe; concurrent requests for a span being
-/// computed wait for that computation instead of repeating it). One instance per server.
+/// Renders tiles and owns the span caches (LRU, thread-safe; concurrent requests for a span being
+/// computed wait for that computation instead of repeating it; failures are not cached). Two levels:
+/// the span of each (dataset, query, value, zoom, size, kernel, gap), and beneath it the unscaled span of
+/// each coarse aggregate, which the zooms above L_s share (they differ only by the scale factor), so
+/// zooming in costs one coarse aggregate per query rather than one per zoom. One instance per server.
 class DensityRenderer {
  public:
   explicit DensityRenderer(std::size_t max_cached_spans = 512);
+  ~DensityRenderer();
+  DensityRenderer(const DensityRenderer&) = delete;
+  DensityRenderer& operator=(const DensityRenderer&) = delete;
 
   /// Validates `request` (see validate()), then renders its tile of `trails` under `query`.
   /// `dataset_key` must change whenever the TrailSet's content does (it keys the span cache).
@@ -87,21 +90,19 @@ class DensityRenderer {
                          const TileRequest& request);
 
   /// The cached span for a request's level (computing it when needed); `cached` tells which.
+  /// Validates as render_tile does.
   std::shared_ptr<const SpanStats> span_for(const TrailSet& trails, const std::string& dataset_key,
                                             const Query& query, const TileRequest& request,
                                             bool* cached = nullptr);
 
   /// Drops every cached span of a dataset (call when it is deleted or replaced).
   void forget_dataset(std::string_view dataset_key);
+  /// Spans cached (first level).
   std::size_t cached_spans() const;
 
  private:
-  struct Slot;
-  using Lru = std::list<std::string>;
-  std::size_t capacity_;
-  mutable std::mutex mutex_;
-  Lru lru_;  ///< most recent first
-  std::unordered_map<std::string, std::shared_ptr<Slot>> slots_;
+  class Cache;
+  std::unique_ptr<Cache> spans_, coarse_;
 };
 
 }  // namespace trailscope::density

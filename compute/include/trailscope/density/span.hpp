@@ -35,8 +35,13 @@ struct SpanStats {
   double normalize(double v, How how) const;
 };
 
-/// The span of every non-NaN value of `r`, each multiplied by `scale` and then raised to at least
-/// `floor` (see renderer.cpp for why counts estimated at a coarser zoom are scaled and floored at 1).
+/// The span of every non-NaN value of `r`, each multiplied by `scale` (> 0) and then raised to at least
+/// `floor` (renderer.hpp explains why counts estimated at a coarser zoom are scaled and floored at 1).
 SpanStats compute_span(const Raster& r, double scale = 1.0, double floor = -1e300);
+
+/// The same transformation applied to an existing span: every value v becomes max(v · scale, floor)
+/// (values the floor merges keep the largest fraction). Equal to compute_span(r, scale, floor) when the
+/// span kept all its distinct values; with quantiles it transforms the quantiles, as the map is monotone.
+SpanStats rescale_span(const SpanStats& s, double scale, double floor = -1e300);
 
 }  // namespace trailscope::density
