@@ -59,20 +59,20 @@ TEST_F(TilesTest, PngWithEtagAndCache) {
   const Response r = get(kTile);
   ASSERT_EQ(r.status, 200) << r.body;
   EXPECT_EQ(r.content_type, "image/png");
-  ASSERT_GT(r.body.size(), 8u);
-  EXPECT_EQ(r.body.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  ASSERT_GT(r.bytes().size(), 8u);
+  EXPECT_EQ(r.bytes().substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   const std::string etag = header(r, "ETag");
   EXPECT_EQ(etag.size(), 18u);
   EXPECT_FALSE(header(r, "Cache-Control").empty());
   EXPECT_EQ(app->tiles.entries(), 1u);
   // The same request again is served from the cache with the same bytes.
   const Response again = get(kTile);
-  EXPECT_EQ(again.body, r.body);
+  EXPECT_EQ(again.bytes(), r.bytes());
   EXPECT_EQ(app->tiles.entries(), 1u);
   // If-None-Match with the ETag: 304, no body.
   const Response not_modified = get(kTile, {}, {{"if-none-match", etag}});
   EXPECT_EQ(not_modified.status, 304);
-  EXPECT_TRUE(not_modified.body.empty());
+  EXPECT_TRUE(not_modified.bytes().empty());
   EXPECT_EQ(header(not_modified, "ETag"), etag);
   // Any input that changes the bytes changes the ETag.
   for (const auto& q : std::vector<std::map<std::string, std::string>>{

@@ -14,6 +14,7 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/http/span_body.hpp>
 #include <boost/beast/websocket.hpp>
 #include <boost/url/parse.hpp>
 
@@ -55,15 +56,42 @@ Request to_request(const http::request_header<>& h, std::string body, fs::path b
   return req;
 }
 
-http::response<http::string_body> to_beast(Response res, unsigned version, bool keep_alive) {
-  http::response<http::string_body> out{static_cast<http::status>(res.status), version};
+// Status, headers and keep-alive of any Beast response from the router's Response.
+template <typename Body>
+void set_head(http::response<Body>& out, const Response& res, bool keep_alive) {
   out.set(http::field::server, "trailscope/" TRAILSCOPE_VERSION);
   if (!res.content_type.empty()) out.set(http::field::content_type, res.content_type);
-  for (auto& [k, v] : res.headers) out.set(k, v);
-  out.body() = std::move(res.body);
+  for (const auto& [k, v] : res.headers) out.set(k, v);
   out.keep_alive(keep_alive);
+}
+
+http::response<http::string_body> to_beast(Response res, unsigned version, bool keep_alive) {
+  http::response<http::string_body> out{static_cast<http::status>(res.status), version};
+  set_head(out, res, keep_alive);
+  out.body() = std::move(res.body);
   out.prepare_payload();
   return out;
+}
+
+// Writes a response; shared bodies (cached tiles) go out without a copy, kept alive by `res`.
+net::awaitable<void> write_response(beast::tcp_stream& stream, Response res, unsigned version, bool keep_alive,
+                                    beast::error_code& ec) {
+  if (res.head_only) {
+    http::response<http::empty_body> out{static_cast<http::status>(res.status), version};
+    set_head(out, res, keep_alive);
+    out.content_length(res.bytes().size());
+    http::response_serializer<http::empty_body> sr{out};
+    co_await http::async_write_header(stream, sr, net::redirect_error(net::use_awaitable, ec));
+  } else if (res.shared_body) {
+    http::response<http::span_body<const char>> out{static_cast<http::status>(res.status), version};
+    set_head(out, res, keep_alive);
+    out.body() = boost::span<const char>(res.shared_body->data(), res.shared_body->size());
+    out.prepare_payload();
+    co_await http::async_write(stream, out, net::redirect_error(net::use_awaitable, ec));
+  } else {
+    auto out = to_beast(std::move(res), version, keep_alive);
+    co_await http::async_write(stream, out, net::redirect_error(net::use_awaitable, ec));
+  }
 }
 
 fs::path upload_path(const fs::path& dir) {
@@ -141,9 +169,8 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
       res = error_response(e);
       keep_alive = false;  // the rest of the body is unread: do not reuse the connection
     }
-    auto out = to_beast(std::move(res), version, keep_alive);
     stream.expires_after(std::chrono::seconds(limits::kRequestTimeoutSeconds));
-    co_await http::async_write(stream, out, net::redirect_error(net::use_awaitable, ec));
+    co_await write_response(stream, std::move(res), version, keep_alive, ec);
     if (ec || !keep_alive) break;
   }
   stream.socket().shutdown(tcp::socket::shutdown_send, ec);

@@ -3,6 +3,7 @@
 // types, so handlers and their tests stay free of networking code.
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,11 +30,23 @@ struct Response {
   std::string content_type = "application/json";
   std::string body;
   std::vector<std::pair<std::string, std::string>> headers;
+  /// When set, sent instead of `body` without a copy (cached tiles: the cache keeps the bytes alive).
+  std::shared_ptr<const std::string> shared_body;
+  /// A HEAD response: the headers of the GET, with its Content-Length, and no body on the wire.
+  bool head_only = false;
 
+  const std::string& bytes() const { return shared_body ? *shared_body : body; }
   static Response json(int status, const nlohmann::json& j) {
-    return Response{status, "application/json", j.dump(), {}};
+    Response r;
+    r.status = status, r.body = j.dump();
+    return r;
   }
-  static Response no_content() { return Response{204, "", "", {}}; }
+  static Response no_content() { return status_only(204); }
+  static Response status_only(int status) {
+    Response r;
+    r.status = status, r.content_type.clear();
+    return r;
+  }
 };
 
 /// Path parameters captured by the router ({id} → value).

@@ -55,7 +55,7 @@ Response Router::handle(const Request& req) const {
       if (!match_route(r.pattern, req.path, params)) continue;
       if (r.method == req.method || (req.method == "HEAD" && r.method == "GET")) {
         Response res = r.handler(req, params);
-        if (req.method == "HEAD") res.body.clear();
+        res.head_only = req.method == "HEAD";
         return res;
       }
       path_known = true;

@@ -42,7 +42,8 @@ Response static_file(App& app, const Request& req, const PathParams&) {
   if (!in) return error_response(404, "not_found", "path", "no route for " + req.path);
   std::ostringstream buf;
   buf << in.rdbuf();
-  Response res{200, content_type(file), buf.str(), {}};
+  Response res;
+  res.content_type = content_type(file), res.body = buf.str();
   // Vite names assets by content hash, so they never change; the index must always be revalidated.
   res.headers.emplace_back("Cache-Control", is_index ? "no-cache" : "public, max-age=31536000, immutable");
   return res;

@@ -58,14 +58,17 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
     r.headers.emplace_back("Cache-Control", "public, max-age=300");
     return r;
   };
-  if (req.header("if-none-match") == etag) return with_headers(Response{304, "", "", {}});
+  if (req.header("if-none-match") == etag) return with_headers(Response::status_only(304));
   auto bytes = app.tiles.get(key);
   if (!bytes) {
     density::TileResult r = app.density.render_tile(*ds->trails, dataset_key, q, t);
     bytes = std::make_shared<const std::string>(std::move(r.png));
     app.tiles.put(key, bytes);
   }
-  return with_headers(Response{200, "image/png", *bytes, {}});
+  Response res;
+  res.content_type = "image/png";
+  res.shared_body = std::move(bytes);
+  return with_headers(std::move(res));
 }
 
 }  // namespace trailscope::server::handlers
