@@ -12,7 +12,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config \
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo \
   libboost1.81-dev libboost-json1.81-dev libboost-url1.81-dev nlohmann-json3-dev \
   libprotobuf-dev protobuf-compiler libsqlite3-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  libspdlog-dev libcli11-dev libzstd-dev libtbb-dev zlib1g-dev curl nodejs npm
+  libspdlog-dev libcli11-dev libzstd-dev libtbb-dev zlib1g-dev curl
 # Needed by `make test` and `make bench` only.
 APT_TEST_PACKAGES := chromium wrk
 APT_BENCH_PACKAGES := clickhouse-server clickhouse-client
@@ -29,6 +29,10 @@ endef
 
 deps:
 	$(call apt_install,$(APT_PACKAGES))
+	@# Node.js may come from Debian (nodejs + npm) or from a distribution that bundles npm in its nodejs
+	@# package (which then conflicts with Debian's npm): install Debian's only when the commands are missing.
+	@command -v node >/dev/null || { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends nodejs; }
+	@command -v npm >/dev/null || { DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends npm; }
 
 deps-test: deps
 	$(call apt_install,$(APT_TEST_PACKAGES))
