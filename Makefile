@@ -64,7 +64,7 @@ test: deps-test build web
 	TRAILSCOPE_BIN=$(BUILD_DIR)/server/trailscope bash tests/e2e/run.sh
 
 bench: deps-bench build web
-	bash tests/bench/run_benchmarks.sh
+	BUILD_DIR=$(BUILD_DIR) bash tests/bench/run_benchmarks.sh
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -334,16 +334,24 @@ int main(int argc, char** argv) {
     }
     if (m("quick") == "1")
       md << "> **Quick (smoke) run**: smaller data and fewer repetitions; not representative.\n\n";
-    if (std::isfinite(load) && load > 1.0)
-      md << "> **Noise warning**: the load average was " << m("load_start") << " at the start and " << m("load_end")
-         << " at the end of the run on " << m("cores") << " cores, i.e. other work (builds, tests) was running: "
-            "the numbers may be noisy (slower than on a quiet machine).\n\n";
+    double other_pct = NAN;
+    try {
+      other_pct = std::stod(m("other_cpu_pct"));
+    } catch (...) {
+    }
+    if ((std::isfinite(load) && load > 1.0) || (std::isfinite(other_pct) && other_pct > 5.0))
+      md << "> **Noise warning**: other work (builds, tests) was running on this " << m("cores") << "-core machine: "
+         << "load average " << m("load_start") << " when the run started, and other processes used "
+         << m("other_cpu_s") << " CPU-seconds (" << m("other_cpu_pct") << " % of the machine) while it ran. The "
+            "numbers may be noisy (slower than on a quiet machine).\n\n";
     md << "## Machine\n\n| | |\n|---|---|\n"
        << "| CPU | " << m("cpu") << " |\n| cores | " << m("cores") << " |\n| memory | " << m("memory") << " |\n"
        << "| OS | " << m("os") << " |\n| compiler | " << m("compiler") << " |\n| OpenCL device (clinfo -l) | " << m("opencl")
        << " |\n| peer | ClickHouse " << m("clickhouse") << " |\n| load generator | " << m("wrk") << " |\n"
-       << "| commit | " << m("commit") << " |\n| load average (1/5/15 min) at start / end | " << m("load_start") << " / "
-       << m("load_end") << " |\n| run time of the whole script | " << m("duration_s") << " s |\n\n";
+       << "| commit | " << m("commit") << " |\n| load average (1/5/15 min) at the start | " << m("load_start")
+       << " |\n| CPU used by other processes during the run | " << m("other_cpu_s") << " s (" << m("other_cpu_pct")
+       << " % of " << m("cores") << " cores × the run time) |\n| run time of the whole script | " << m("duration_s")
+       << " s |\n\n";
     md << "## Targets\n\n| # | what | target | measured (p50) | |\n|---|---|---|---|---|\n";
     int n_ok = 0;
     for (const auto& t : targets) {
@@ -357,6 +365,43 @@ int main(int argc, char** argv) {
     if (mismatch)
       md << "> **MISMATCH**: ClickHouse and TrailScope disagree on at least one result (see §5 and "
             "`results.jsonl`, field `mismatch`).\n\n";
+    // ---- observations computed from this run's records ----------------------------------------------
+    {
+      std::ostringstream obs;
+      if (const json* so6 = find1("ingest", {{"label", "so6_europe_day"}}); so6 && dbl(so6, "s_p50") > 0)
+        obs << "- SO6 ingest: parsing takes " << num(100 * dbl(so6, "parse_s_p50") / dbl(so6, "s_p50"), 0)
+            << " % of the time (reading, decompressing, parsing, and the per-point work done while reading), "
+               "building the TrailSet the rest.\n";
+      for (const json* st : find("tile_stages", {{"dataset", "europe"}})) {
+        const json* cold = find1("tile", {{"impl", "trailscope"}, {"mode", "cold"}, {"backend", "cpu"},
+                                          {"dataset", "europe"}, {"tile", str(st, "tile")}});
+        if (!cold) continue;
+        obs << "- Tile europe " << str(st, "tile") << " (cold " << ms(cold, "ms_p50") << " ms on the CPU): the shared "
+            << "colour span is " << ms(st, "span_estimate_ms_p50") << " ms of it (" 
+            << num(100 * dbl(st, "span_estimate_ms_p50") / dbl(cold, "ms_p50"), 0) << " %), preparing the "
+            << grouped(st, "segments") << " segments " << ms(st, "prepare_segments_ms_p50") << " ms, rasterising "
+            << ms(st, "density_lines_cpu_ms_p50") << " ms (OpenCL on PoCL: " << ms(st, "density_lines_opencl_ms_p50")
+            << " ms), PNG " << ms(st, "encode_png_ms_p50") << " ms.\n";
+        break;  // one example; the table in §3 has the others
+      }
+      for (const json* st : find("tile_stages", {{"dataset", "demo"}})) {
+        obs << "- Tile demo " << str(st, "tile") << " (" << grouped(st, "segments") << " segments): span "
+            << ms(st, "span_estimate_ms_p50") << " ms and segment preparation " << ms(st, "prepare_segments_ms_p50")
+            << " ms dominate; rasterising is " << ms(st, "density_lines_cpu_ms_p50") << " ms.\n";
+        break;
+      }
+      const json* w = find1("summary", {{"impl", "trailscope"}, {"window", "whole_day"}});
+      const json* hw = find1("http", {{"label", "summary_whole_day"}});
+      if (w && hw)
+        obs << "- Summary through the server costs " << ms(dbl(hw, "ms_p50") - dbl(w, "ms_p50"))
+            << " ms more than in process for the whole day (JSON and HTTP; the two series also ran at different moments).\n";
+      if (const json* wr = find1("wrk", {{"label", "tile_cached_200"}}); wr)
+        if (const json* wh = find1("wrk", {{"label", "health"}}))
+          obs << "- A cached tile (" << grouped(find1("http", {{"label", "tile_europe_4_8_5_warm"}}), "bytes")
+              << " bytes) is served at " << num(100 * dbl(wr, "requests_per_s") / dbl(wh, "requests_per_s"), 0)
+              << " % of the rate of the tiny health response (the difference is the cost of the larger body).\n";
+      if (!obs.str().empty()) md << "## Observations (computed from this run)\n\n" << obs.str() << "\n";
+    }
     md << body.str();
     md << "## Commands\n\nRun from the repository root, in this order, by `tests/bench/run_benchmarks.sh` "
           "(ClickHouse is started and stopped by `tests/bench/clickhouse_ctl.sh`):\n\n```sh\n"

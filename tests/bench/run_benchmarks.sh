@@ -89,6 +89,19 @@ free_port() {
   echo "no free port near $1" >&2
   return 1
 }
+# CPU seconds (busy: user, nice, system, irq, softirq) of the whole machine so far, from /proc/stat.
+machine_cpu_s() { awk -v hz="$(getconf CLK_TCK)" '/^cpu / { printf "%.2f", ($2 + $3 + $4 + $7 + $8) / hz }' /proc/stat; }
+# CPU seconds used by one process so far (utime + stime), 0 when it is gone.
+proc_cpu_s() { awk -v hz="$(getconf CLK_TCK)" '{ printf "%.2f", ($14 + $15) / hz }' "/proc/$1/stat" 2>/dev/null || echo 0; }
+# CPU seconds of this script's waited-for children (bash's `times`, second line: "XmY.YYYs XmY.YYYs").
+# `times` must run in this shell (in a pipeline or $(...) it would describe a fresh subshell): it writes to
+# a file, read back by the caller as CHILD_CPU.
+children_cpu() {
+  times >"$OUT/.times"
+  CHILD_CPU=$(tail -1 "$OUT/.times" | awk '{ s = 0; for (i = 1; i <= 2; i++) { split($i, a, "m"); s += a[1] * 60 + a[2] } printf "%.2f", s }')
+  rm -f "$OUT/.times"
+}
+OWN_EXTRA_CPU=0  # CPU of our processes that are not waited-for children (ClickHouse is re-parented to init)
 say() { printf '\n== [%4ds] %s\n' "$(($(date +%s) - T_START))" "$*" | tee -a "$LOG" >&2; }
 meta() { printf '%s\t%s\n' "$1" "$2" >>"$META"; }
 # Records a command line for BENCHMARKS.md: paths relative to the repository root, arguments with
@@ -152,6 +165,8 @@ meta clickhouse "$(dpkg-query -W -f='${Version}' clickhouse-server 2>/dev/null |
 meta wrk "$(wrk --version 2>&1 | head -1 | cut -d' ' -f1-2 || true)"
 meta commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')$( [ -n "$(git -C "$ROOT" status --porcelain 2>/dev/null | head -1)" ] && echo ' + uncommitted changes')"
 meta load_start "$(cut -d' ' -f1-3 /proc/loadavg)"
+children_cpu
+CPU_T0=$(date +%s.%N) CPU_M0=$(machine_cpu_s) CPU_C0=$CHILD_CPU
 meta quick "${BENCH_QUICK:-0}"
 cat "$META" >&2
 
@@ -189,6 +204,7 @@ say "4. density tiles"
 run "$B/tile_bench" --so6 "$SO6" --demo-flights "$FLIGHTS" --reps "$TILE_REPS" "${CH_ARGS[@]}"
 
 if [ "$CH_STARTED" = 1 ]; then
+  OWN_EXTRA_CPU=$(awk -v a="$OWN_EXTRA_CPU" -v b="$(proc_cpu_s "$(cat "$CH_DIR/clickhouse.pid")")" 'BEGIN { printf "%.2f", a + b }')
   record bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"
   bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"
   CH_STARTED=0
@@ -263,10 +279,19 @@ fi
 kill -TERM "$SERVER_PID" 2>/dev/null || true
 for _ in $(seq 1 50); do kill -0 "$SERVER_PID" 2>/dev/null || break; sleep 0.1; done
 kill -KILL "$SERVER_PID" 2>/dev/null || true
+wait "$SERVER_PID" 2>/dev/null || true  # reaped: its CPU time now counts among our children's
 SERVER_PID=
 
 # ---------------------------------------------------------------------------------------------------
 meta load_end "$(cut -d' ' -f1-3 /proc/loadavg)"
+# How much CPU other processes (other people's builds and tests) took while the benchmarks ran: the
+# machine's busy CPU time minus ours (children, ClickHouse), as a share of the cores × wall time.
+children_cpu
+read -r OTHER_S OTHER_PCT < <(awk -v t0="$CPU_T0" -v t1="$(date +%s.%N)" -v m0="$CPU_M0" -v m1="$(machine_cpu_s)" \
+  -v c0="$CPU_C0" -v c1="$CHILD_CPU" -v x="$OWN_EXTRA_CPU" -v n="$(nproc)" \
+  'BEGIN { o = (m1 - m0) - (c1 - c0) - x; if (o < 0) o = 0; printf "%.1f %.1f\n", o, 100 * o / ((t1 - t0) * n) }')
+meta other_cpu_s "$OTHER_S"
+meta other_cpu_pct "$OTHER_PCT"
 meta duration_s "$(($(date +%s) - T_START))"
 say "report → $REPORT"
 "$B/bench_report" --results "$RESULTS" --meta "$META" --commands "$CMDS" --out "$ROOT/$REPORT"
