@@ -24,6 +24,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <iostream>
 #include <map>
 #include <stdexcept>
@@ -741,6 +742,157 @@ inline std::vector<std::string> compare_tile(const std::vector<std::uint32_t>& o
     diff.push_back(std::to_string(bad) + " pixels differ (points in tile: bench " + std::to_string(sum_o) +
                    ", clickhouse " + std::to_string(sum_t) + ")");
   return diff;
+}
+
+// ---- the LINE-density tile in ClickHouse (the same counts as density::density_lines) ----------------
+
+/// The segment table a ClickHouse user would materialise for line tiles: one row per pair of consecutive
+/// samples (i, i+1) of a flight, with both endpoints' 32-bit Mercator positions (b unwrapped the short way
+/// across 180°, as append_segment does), their bounding box (the tile filter), the times and altitudes of
+/// both endpoints (window filters) and prev_dt = t[i] − t[i−1] (+inf for a flight's first segment: it
+/// decides whether the segment continues a run, see SHARED ENDPOINTS in density_lines.hpp).
+inline const char* kPeerSegColumns =
+    "(flight_id UInt32, seg UInt32, t0 Float64, t1 Float64, prev_dt Float64, alt0 Float32, alt1 Float32, "
+    "xa Int64, ya Int64, xb Int64, yb Int64, xmin Int64, xmax Int64, ymin Int64, ymax Int64)";
+
+/// Two layouts; the peer's figure is the faster: "f" ORDER BY (flight_id, seg) (insertion order), and
+/// "y" ORDER BY (ymin, xmin) (the key prunes segments that start below the tile).
+inline const std::vector<PeerLayout>& peer_seg_layouts() {
+  static const std::vector<PeerLayout> l = {
+      {"f", "ENGINE = MergeTree ORDER BY (flight_id, seg) SETTINGS index_granularity = 8192"},
+      {"y", "ENGINE = MergeTree ORDER BY (ymin, xmin) SETTINGS index_granularity = 8192"},
+  };
+  return l;
+}
+
+/// Loads the segment table `<base>_seg_<layout>` (as load_peer: RowBinary into the first layout,
+/// INSERT … SELECT into the second, OPTIMIZE FINAL; reused when both already hold the right row count).
+inline json load_peer_segments(ClickHouse& ch, const std::string& base, const trailscope::TrailSet& set,
+                               std::size_t batch = 1u << 20) {
+  std::size_t n = 0;
+  for (const auto& f : set.flights()) n += f.end > f.begin ? f.end - f.begin - 1 : 0;
+  json rec = {{"bench", "peer_load"}, {"impl", "clickhouse"}, {"table", base + "_seg"}, {"rows", n}};
+  bool fresh = true;
+  for (const auto& l : peer_seg_layouts()) {
+    const std::string t = base + "_seg_" + l.suffix;
+    if (!ch.table_exists(t) || ch.count(t) != n) fresh = false;
+  }
+  if (fresh) {
+    rec["reused"] = true;
+    return rec;
+  }
+  for (const auto& l : peer_seg_layouts()) {
+    const std::string t = base + "_seg_" + l.suffix;
+    ch.exec("DROP TABLE IF EXISTS " + t);
+    ch.exec(std::string("CREATE TABLE ") + t + " " + kPeerSegColumns + " " + l.engine);
+  }
+  const auto& p = set.points();
+  const auto& mx = set.merc_x();
+  const auto& my = set.merc_y();
+  auto put = [](std::string& s, const auto& v) { s.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  const std::string first = base + "_seg_" + peer_seg_layouts()[0].suffix;
+  const auto t_all = Clock::now();
+  std::string body;
+  std::size_t rows = 0;
+  auto flush = [&] {
+    if (rows) ch.insert(first, "RowBinary", body);
+    body.clear();
+    rows = 0;
+  };
+  constexpr std::int64_t kWorld = std::int64_t{1} << 32, kHalf = std::int64_t{1} << 31;
+  for (std::size_t f = 0; f < set.num_flights(); ++f) {
+    const auto& fl = set.flights()[f];
+    for (std::uint32_t i = fl.begin; i + 1 < fl.end; ++i) {
+      const std::int64_t xa = mx[i], ya = my[i];
+      std::int64_t xb = mx[i + 1];
+      const std::int64_t yb = my[i + 1];
+      if (xb - xa > kHalf) xb -= kWorld;
+      else if (xa - xb > kHalf) xb += kWorld;
+      const double prev_dt = i > fl.begin ? p.t[i] - p.t[i - 1] : std::numeric_limits<double>::infinity();
+      put(body, static_cast<std::uint32_t>(f));
+      put(body, static_cast<std::uint32_t>(i - fl.begin));
+      put(body, p.t[i]);
+      put(body, p.t[i + 1]);
+      put(body, prev_dt);
+      put(body, p.alt[i]);
+      put(body, p.alt[i + 1]);
+      for (const std::int64_t v : {xa, ya, xb, yb, std::min(xa, xb), std::max(xa, xb), std::min(ya, yb), std::max(ya, yb)})
+        put(body, v);
+      if (++rows == batch) flush();
+    }
+  }
+  flush();
+  const double insert_ms = ms_since(t_all);
+  auto t0 = Clock::now();
+  ch.exec("OPTIMIZE TABLE " + first + " FINAL");
+  for (std::size_t k = 1; k < peer_seg_layouts().size(); ++k) {
+    const std::string t = base + "_seg_" + peer_seg_layouts()[k].suffix;
+    ch.exec("INSERT INTO " + t + " SELECT * FROM " + first);
+    ch.exec("OPTIMIZE TABLE " + t + " FINAL");
+  }
+  const double opt_ms = ms_since(t0);
+  for (const auto& l : peer_seg_layouts()) {
+    const std::string t = base + "_seg_" + l.suffix;
+    if (ch.count(t) != n) throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) + " rows, expected " + std::to_string(n));
+  }
+  rec["reused"] = false;
+  rec["insert_total_ms"] = std::round(insert_ms);
+  rec["optimize_ms"] = std::round(opt_ms);
+  log("ClickHouse: loaded " + std::to_string(n) + " segments into " + base + "_seg_* in " + std::to_string(insert_ms / 1000) +
+      " s (+ " + std::to_string(opt_ms / 1000) + " s optimize/copy)");
+  return rec;
+}
+
+/// The line-density count tile in SQL: the pixels of XYZ tile `t` (`size` px) that each segment touches,
+/// exactly as density_lines defines them (the closed segment meets the half-open pixel square), with the
+/// pixel of the first endpoint left out for a segment that continues a run; count per pixel.
+/// No query filter (the benchmark's tiles are the whole day); `max_gap` = +inf draws every segment.
+/// How: segments whose bbox meets the tile; orient each left → right (lx ≤ hx); one row per pixel column
+/// c it crosses inside the tile (arrayJoin(range(…))); in that column the segment spans x ∈ [max(lx, cP),
+/// min(hx, (c+1)P)] (right end open when it is the column's edge), and, y being linear in x, the rows
+/// between the rows of its two ends; y at an x is ly ± (x − lx)·|dy| / dx, done exactly in UInt64 (both
+/// factors < 2^32) with intDiv and the remainder, so floors, and the open end's limit (a row boundary hit
+/// exactly from below belongs to the row beneath), are exact; one row per pixel row (a second arrayJoin);
+/// drop the first endpoint's pixel where the segment continues a run; GROUP BY pixel. Each (segment,
+/// pixel) pair is produced once by construction. Not covered: the extra copies of segments across 180°
+/// (none meets the benchmark's tiles). ClickHouse 18.16 has every function used (range(n) with one
+/// argument, arrayJoin, intDiv, modulo, multiIf, greatest/least).
+inline std::string peer_line_tile_sql(const std::string& table, const trailscope::geo::TileId& t, int size,
+                                      double max_gap) {
+  namespace geo = trailscope::geo;
+  const std::int64_t x0 = geo::tile_origin_x(t), y0 = geo::tile_origin_y(t), span = geo::tile_size_units(t.z);
+  const std::int64_t P = span / size, C0 = x0 / P, R0 = y0 / P, S = size;
+  const std::string sP = std::to_string(P), sC0 = std::to_string(C0), sR0 = std::to_string(R0);
+  const std::string sCmax = std::to_string(C0 + S - 1), sRmax = std::to_string(R0 + S - 1), sS = std::to_string(S);
+  const bool gap = std::isfinite(max_gap);
+  const std::string cont = gap ? "(seg > 0 AND prev_dt <= " + lit(max_gap) + ")" : "(seg > 0)";
+  const std::string segs =
+      "SELECT " + cont + " AS cont, intDiv(xa, " + sP + ") AS pa_c, intDiv(ya, " + sP + ") AS pa_r, "
+      "xa <= xb AS fwd, if(fwd, xa, xb) AS lx, if(fwd, ya, yb) AS ly, if(fwd, xb, xa) AS hx, if(fwd, yb, ya) AS hy, "
+      "hx - lx AS dx, hy - ly AS dy, toUInt64(abs(dy)) AS ady, toUInt64(greatest(dx, 1)) AS ddx, "
+      "greatest(intDiv(lx, " + sP + "), " + sC0 + ") AS c_lo, least(intDiv(hx, " + sP + "), " + sCmax + ") AS c_hi "
+      "FROM " + table + " WHERE xmax >= " + std::to_string(x0) + " AND xmin < " + std::to_string(x0 + span) +
+      " AND ymax >= " + std::to_string(y0) + " AND ymin < " + std::to_string(y0 + span) +
+      (gap ? " AND t1 - t0 <= " + lit(max_gap) : "");
+  const std::string cols =
+      "SELECT cont, pa_c, pa_r, lx, ly, hx, dx, dy, ady, ddx, "
+      "c_lo + toInt64(arrayJoin(range(toUInt64(greatest(c_hi - c_lo + 1, 0))))) AS c FROM (" + segs + ")";
+  const std::string rows =
+      "SELECT cont, pa_c, pa_r, c, greatest(lx, c * " + sP + ") AS xl, least(hx, (c + 1) * " + sP + ") AS xr, "
+      "hx >= (c + 1) * " + sP + " AS open_r, "
+      "toUInt64(xl - lx) * ady AS ul, toUInt64(xr - lx) * ady AS ur, "
+      "toInt64(intDiv(ul, ddx)) AS ql, ul % ddx AS ml, toInt64(intDiv(ur, ddx)) AS qr, ur % ddx AS mr, "
+      "toInt64(multiIf(dx = 0, intDiv(least(ly, ly + dy), " + sP + "), dy >= 0, intDiv(ly + ql, " + sP + "), "
+      "intDiv(ly - ql - (ml > 0), " + sP + "))) AS j_l, "
+      "toInt64(multiIf(dx = 0, intDiv(greatest(ly, ly + dy), " + sP + "), dy > 0, intDiv(ly + qr, " + sP +
+      ") - (open_r AND mr = 0 AND (ly + qr) % " + sP + " = 0), dy = 0, intDiv(ly, " + sP + "), "
+      "intDiv(ly - qr - (mr > 0), " + sP + "))) AS j_r, "
+      "greatest(least(j_l, j_r), " + sR0 + ") AS r_lo, least(greatest(j_l, j_r), " + sRmax + ") AS r_hi FROM (" + cols + ")";
+  const std::string pix =
+      "SELECT cont, pa_c, pa_r, c, r_lo + toInt64(arrayJoin(range(toUInt64(greatest(r_hi - r_lo + 1, 0))))) AS r "
+      "FROM (" + rows + ")";
+  return "SELECT (r - " + sR0 + ") * " + sS + " + (c - " + sC0 + ") AS pos, count() AS n FROM (" + pix +
+         ") WHERE NOT (cont AND c = pa_c AND r = pa_r) GROUP BY pos";
 }
 
 /// Prints a mismatch so that nobody can miss it (stderr), and returns the record's "match" fields.

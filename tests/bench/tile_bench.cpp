@@ -186,6 +186,8 @@ int main(int argc, char** argv) {
       json load = load_peer(ch, d.name, d.set);
       load["clickhouse_version"] = ch.version();
       emit(load);
+      json seg_load = load_peer_segments(ch, d.name, d.set);
+      emit(seg_load);
       for (const TileCase& tc : d.tiles) {
         const std::string key = d.name + "/" + tile_name(tc.tile);
         const auto t0 = Clock::now();
@@ -227,6 +229,54 @@ int main(int argc, char** argv) {
               {"clickhouse_server_ms_p50", best}, {"clickhouse_wall_ms_p50", best_wall},
               {"clickhouse_layout", best_layout}, {"speedup_cold", std::round(best / ts_cold[key] * 100) / 100},
               {"speedup_span_warm", std::round(best / ts_warm[key] * 100) / 100}, {"match", all_match}});
+
+        // The LINE-density tile in ClickHouse (peer_line_tile_sql over the segment table), checked pixel
+        // for pixel against TrailScope's count aggregate of the same tile (density_lines_ref).
+        const den::Canvas canvas = den::Canvas::for_tile(tc.tile, 256);
+        const den::Aggregate agg = den::density_lines_ref(
+            den::prepare_line_segments(d.set, all, canvas, den::DensityValue::count, d.max_gap));
+        std::vector<std::uint32_t> line_ref(agg.count.begin(), agg.count.end());
+        std::uint64_t line_total = 0, line_nonzero = 0;
+        for (auto c : line_ref) line_total += c, line_nonzero += c != 0;
+        double lbest = INFINITY, lbest_wall = INFINITY;
+        std::string lbest_layout;
+        bool lall_match = true;
+        std::vector<std::string> ldiff_any;
+        for (const auto& l : peer_seg_layouts()) {
+          const std::string table = d.name + "_seg_" + l.suffix;
+          const std::string sql = peer_line_tile_sql(table, tc.tile, 256, d.max_gap);
+          std::vector<double> wall, server;
+          std::vector<std::string> diff;
+          for (int i = -1; i < ch_reps; ++i) {
+            const auto r = ch.query(sql);
+            if (i < 0) diff = compare_tile(line_ref, r.result);
+            else wall.push_back(r.wall_ms), server.push_back(r.server_ms);
+          }
+          json rec = {{"bench", "tile"}, {"impl", "clickhouse_lines"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)},
+                      {"layout", l.suffix}, {"table", table}, {"segment_pixels", line_total}, {"pixels", line_nonzero},
+                      {"reps", ch_reps}, {"sql", sql}};
+          const Stats sw = Stats::of(wall), ss = Stats::of(server);
+          sw.put(rec, "wall_ms_");
+          ss.put(rec, "server_ms_");
+          report_match(rec, diff, "line tile " + key + " on " + l.suffix);
+          if (!diff.empty()) ldiff_any = diff;
+          lall_match = lall_match && diff.empty();
+          emit(rec);
+          log("clickhouse line tile " + key + " " + l.suffix + ": server p50 " + std::to_string(ss.p50) + " ms, wall p50 " +
+              std::to_string(sw.p50) + " ms" + (diff.empty() ? "  (counts identical)" : "  MISMATCH"));
+          if (ss.p50 < lbest) lbest = ss.p50, lbest_layout = l.suffix;
+          lbest_wall = std::min(lbest_wall, sw.p50);
+        }
+        json lp = {{"bench", "tile_peer_lines"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)}, {"label", tc.label},
+                   {"segment_pixels", line_total}, {"pixels", line_nonzero},
+                   {"trailscope_cold_ms_p50", ts_cold[key]}, {"trailscope_span_warm_ms_p50", ts_warm[key]},
+                   {"trailscope_count_only_ms_p50", ts_agg[key]},
+                   {"clickhouse_server_ms_p50", lbest}, {"clickhouse_wall_ms_p50", lbest_wall},
+                   {"clickhouse_layout", lbest_layout}, {"speedup_cold", std::round(lbest / ts_cold[key] * 100) / 100},
+                   {"speedup_span_warm", std::round(lbest / ts_warm[key] * 100) / 100},
+                   {"speedup_count_only", std::round(lbest / ts_agg[key] * 100) / 100}, {"match", lall_match}};
+        if (!ldiff_any.empty()) lp["mismatch"] = ldiff_any;
+        emit(lp);
       }
     }
     return 0;

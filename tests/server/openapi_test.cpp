@@ -54,7 +54,6 @@ TEST(OpenApi, QuotesEveryLimit) {
   const std::map<std::string, double> actual = {
       {"kMaxUploadBytes", double(L::kMaxUploadBytes)}, {"kMaxRequestBodyBytes", double(L::kMaxRequestBodyBytes)},
       {"kRequestTimeoutSeconds", L::kRequestTimeoutSeconds}, {"kUploadTimeoutSeconds", L::kUploadTimeoutSeconds},
-      {"kMaxPipelinedRequests", double(L::kMaxPipelinedRequests)},
       {"kMaxWebSocketMessageBytes", double(L::kMaxWebSocketMessageBytes)},
       {"kMaxQuerySpanSeconds", L::kMaxQuerySpanSeconds}, {"kMaxIcao24PerQuery", double(L::kMaxIcao24PerQuery)},
       {"kMaxCallsignPatternLength", double(L::kMaxCallsignPatternLength)}, {"kMaxPageSize", double(L::kMaxPageSize)},

@@ -1,6 +1,8 @@
 #pragma once
 // The HTTP/WebSocket server: a listener accepting on one address, one coroutine per connection, N threads
 // on one io_context, and a clean stop on SIGINT/SIGTERM. Limits come from trailscope/core/limits.hpp.
+// A connection's requests are read and answered one at a time, in order: pipelined requests wait in the
+// socket, so no per-connection queue can grow.
 #include <string>
 
 #include "routes/app.hpp"

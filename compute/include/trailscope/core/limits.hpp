@@ -16,8 +16,6 @@ inline constexpr std::uint64_t kMaxRequestBodyBytes = 1u << 20;  // 1 MiB
 /// kUploadTimeoutSeconds instead.
 inline constexpr int kRequestTimeoutSeconds = 30;
 inline constexpr int kUploadTimeoutSeconds = 3600;
-/// Pipelined HTTP requests queued per connection before the server stops reading.
-inline constexpr std::size_t kMaxPipelinedRequests = 8;
 /// Largest WebSocket message the server accepts from a client (bytes).
 inline constexpr std::size_t kMaxWebSocketMessageBytes = 64u << 10;
 
