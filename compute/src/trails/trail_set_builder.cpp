@@ -11,20 +11,21 @@
 
 namespace trailscope {
 
-std::size_t TrailSetBuilder::KeyHash::operator()(const Key& k) const noexcept {
-  return std::hash<std::string>()(k.icao24) * 31u ^ std::hash<std::string>()(k.callsign);
+std::size_t TrailSetBuilder::KeyHash::operator()(const KeyView& k) const noexcept {
+  return std::hash<std::string_view>()(k.icao24) * 31u ^ std::hash<std::string_view>()(k.callsign);
 }
 
 namespace {
-std::string normalise(std::string_view s, bool upper) {
+// Trims ASCII blanks and folds ASCII case into `out` (identifiers are ASCII; no locale involved).
+void normalise(std::string_view s, bool upper, std::string& out) {
   std::size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  std::string out(s.substr(b, e - b));
-  for (char& c : out)
-    c = static_cast<char>(upper ? std::toupper(static_cast<unsigned char>(c))
-                                : std::tolower(static_cast<unsigned char>(c)));
-  return out;
+  while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r' || s[b] == '\n')) ++b;
+  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r' || s[e - 1] == '\n')) --e;
+  out.assign(s.data() + b, e - b);
+  for (char& c : out) {
+    if (upper && c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+    if (!upper && c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
 }
 
 // Appends one flight made of samples[b, e) (time-sorted) to the columns and the flight list.
@@ -49,7 +50,11 @@ void append_flight(const std::string& icao24, const std::string& callsign, const
 void TrailSetBuilder::add(std::string_view icao24, std::string_view callsign, const Sample& s) {
   if (!std::isfinite(s.t) || !std::isfinite(s.lat) || !std::isfinite(s.lon))
     throw Error(Error::Kind::internal, "", "TrailSetBuilder::add: non-finite time or position");
-  groups_[Key{normalise(icao24, false), normalise(callsign, true)}].push_back(s);
+  normalise(icao24, false, icao_buf_);
+  normalise(callsign, true, callsign_buf_);
+  auto it = groups_.find(KeyView{icao_buf_, callsign_buf_});
+  if (it == groups_.end()) it = groups_.emplace(Key{icao_buf_, callsign_buf_}, std::vector<Sample>{}).first;
+  it->second.push_back(s);
   ++samples_;
 }
 

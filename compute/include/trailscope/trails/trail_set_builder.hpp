@@ -48,12 +48,28 @@ class TrailSetBuilder {
  private:
   struct Key {
     std::string icao24, callsign;
-    bool operator==(const Key&) const = default;
   };
+  struct KeyView {
+    std::string_view icao24, callsign;
+  };
+  // Transparent hash and equality: add() looks a sample's aircraft up by views into reused buffers,
+  // so the common case (an aircraft already seen) allocates nothing.
   struct KeyHash {
-    std::size_t operator()(const Key& k) const noexcept;
+    using is_transparent = void;
+    std::size_t operator()(const KeyView& k) const noexcept;
+    std::size_t operator()(const Key& k) const noexcept { return (*this)(KeyView{k.icao24, k.callsign}); }
   };
-  std::unordered_map<Key, std::vector<Sample>, KeyHash> groups_;
+  struct KeyEq {
+    using is_transparent = void;
+    static KeyView view(const Key& k) { return {k.icao24, k.callsign}; }
+    static KeyView view(const KeyView& k) { return k; }
+    template <typename A, typename B>
+    bool operator()(const A& a, const B& b) const noexcept {
+      return view(a).icao24 == view(b).icao24 && view(a).callsign == view(b).callsign;
+    }
+  };
+  std::unordered_map<Key, std::vector<Sample>, KeyHash, KeyEq> groups_;
+  std::string icao_buf_, callsign_buf_;
   std::size_t samples_ = 0;
 };
 
