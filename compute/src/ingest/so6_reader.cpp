@@ -2,6 +2,8 @@
 // time-ordered point list, and speed/track/vertical rate are derived from consecutive points, since the
 // format carries positions and flight levels only.
 #include <GeographicLib/Geodesic.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstring>
@@ -145,47 +147,60 @@ void read_so6(ReadContext& ctx) {
   for (auto& [id, i] : index) ids[i] = id;
   const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  // Sorting and the geodesic per leg (most of the time of an SO6 ingest) run per flight in parallel;
+  // the builder then takes the samples in flight order, so the result does not depend on threads.
+  std::vector<std::vector<Sample>> samples(flights.size());
+  std::vector<std::size_t> dups(flights.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, flights.size(), 64), [&](const auto& range) {
+    for (std::size_t fi = range.begin(); fi != range.end(); ++fi) {
+      auto& p = flights[fi].points;
+      // Order by time; consecutive segments share an endpoint, so drop a point whose time repeats.
+      std::stable_sort(p.begin(), p.end(), [](const Point& x, const Point& y) { return x.t < y.t; });
+      std::size_t w = 0;
+      for (std::size_t r = 0; r < p.size(); ++r) {
+        if (w > 0 && p[r].t == p[w - 1].t) {
+          const Point& k = p[w - 1];
+          if (p[r].lat != k.lat || p[r].lon != k.lon || p[r].alt != k.alt) ++dups[fi];
+          continue;
+        }
+        p[w++] = p[r];
+      }
+      p.resize(w);
+      auto& out = samples[fi];
+      out.reserve(p.size());
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        Sample s;
+        s.t = p[i].t, s.lat = p[i].lat, s.lon = p[i].lon, s.alt = p[i].alt;
+        if (p.size() > 1) {
+          // The leg leaving this point, or for the last point the leg arriving at it.
+          const bool last = i + 1 == p.size();
+          const Point& a = last ? p[i - 1] : p[i];
+          const Point& b = last ? p[i] : p[i + 1];
+          double dist, azi1, azi2;
+          geod.Inverse(a.lat, a.lon, b.lat, b.lon, dist, azi1, azi2);
+          const double dt = b.t - a.t;  // > 0 after the dedup above
+          s.speed = static_cast<float>(dist / dt);
+          s.track = dist > 1.0 ? static_cast<float>(last ? azi2 : azi1) : kNaN;
+          s.vrate = static_cast<float>((b.alt - a.alt) / dt);
+          // A leg faster than any aircraft comes from a glitch in the source (a one-point position
+          // spike, a clock wrapping at midnight): keep the positions, leave the derived values unknown.
+          if (s.speed > kMaxSpeed) s.speed = s.track = kNaN;
+          if (std::fabs(s.vrate) > kMaxVerticalRate) s.vrate = kNaN;
+        }
+        normalise_sample(s);
+        out.push_back(s);
+      }
+      std::vector<Point>().swap(p);
+    }
+  });
   std::string slot;
   for (std::size_t fi = 0; fi < flights.size(); ++fi) {
-    FlightAcc& fl = flights[fi];
-    auto& p = fl.points;
-    // Order by time; consecutive segments share an endpoint, so drop a point whose time repeats.
-    std::stable_sort(p.begin(), p.end(), [](const Point& x, const Point& y) { return x.t < y.t; });
-    std::size_t w = 0;
-    for (std::size_t r = 0; r < p.size(); ++r) {
-      if (w > 0 && p[r].t == p[w - 1].t) {
-        const Point& k = p[w - 1];
-        if (p[r].lat != k.lat || p[r].lon != k.lon || p[r].alt != k.alt) ++ctx.reader_duplicates;
-        continue;
-      }
-      p[w++] = p[r];
-    }
-    p.resize(w);
+    ctx.reader_duplicates += dups[fi];
+    const FlightAcc& fl = flights[fi];
     const bool shared = flights_per_callsign[fl.callsign] > 1;
     slot = shared ? fl.callsign + "/" + ids[fi] : fl.callsign;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      Sample s;
-      s.t = p[i].t, s.lat = p[i].lat, s.lon = p[i].lon, s.alt = p[i].alt;
-      if (p.size() > 1) {
-        // The leg leaving this point, or for the last point the leg arriving at it.
-        const bool last = i + 1 == p.size();
-        const Point& a = last ? p[i - 1] : p[i];
-        const Point& b = last ? p[i] : p[i + 1];
-        double dist, azi1, azi2;
-        geod.Inverse(a.lat, a.lon, b.lat, b.lon, dist, azi1, azi2);
-        const double dt = b.t - a.t;  // > 0 after the dedup above
-        s.speed = static_cast<float>(dist / dt);
-        s.track = dist > 1.0 ? static_cast<float>(last ? azi2 : azi1) : kNaN;
-        s.vrate = static_cast<float>((b.alt - a.alt) / dt);
-        // A leg faster than any aircraft comes from a glitch in the source (a one-point position spike,
-        // a clock wrapping at midnight): keep the positions, but leave the derived values unknown.
-        if (s.speed > kMaxSpeed) s.speed = s.track = kNaN;
-        if (std::fabs(s.vrate) > kMaxVerticalRate) s.vrate = kNaN;
-      }
-      normalise_sample(s);
-      ctx.builder.add("", slot, s);
-    }
-    std::vector<Point>().swap(p);  // release as we go: the builder now holds a copy
+    for (const Sample& s : samples[fi]) ctx.builder.add("", slot, s);
+    std::vector<Sample>().swap(samples[fi]);  // release as we go: the builder now holds a copy
   }
   // flight_id delimits flights; DP-simplified segments often last longer than any sensible gap.
   ctx.gap_seconds = std::numeric_limits<double>::infinity();
