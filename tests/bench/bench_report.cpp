@@ -75,6 +75,7 @@ std::string code(const std::string& s) { return "`" + s + "`"; }
 struct Target {
   std::string item, what, target, measured;
   bool ok;
+  bool reference = false;  ///< shown for context in the targets table, not a target of the issue (not counted)
 };
 
 }  // namespace
@@ -117,19 +118,24 @@ int main(int argc, char** argv) {
     body << "## 1. Ingest\n\n"
             "`trailscope::ingest::ingest_file()` in process (read, decompress on a helper thread, parse, "
             "validate, build the columnar TrailSet with its Mercator columns). Rows are input rows "
-            "(SO6: segment lines; CSV: state vectors). Median of the runs; target ≥ 1,000,000 rows/s.\n\n"
+            "(SO6: segment lines; CSV: state vectors). Median of the runs. The issue's target is ≥ 1,000,000 "
+            "**state-vector** rows/s (the OpenSky CSV inputs); the SO6 day (Douglas-Peucker segment lines, a "
+            "different format) is reported for reference, not held to that target.\n\n"
             "| input | file size | rows | points | flights | runs | time p50 | **rows/s p50** | best rows/s | parse / assemble (p50) | peak RSS | target |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("ingest")) {
       const double rps = dbl(r, "rows_per_s_p50");
       const bool ok = rps >= 1e6;
       const std::string label = str(r, "label");
+      const bool is_target = str(r, "format") != "so6";
       body << "| " << label << " (" << str(r, "format") << ") | " << num(dbl(r, "bytes") / 1e6, 1) << " MB | "
            << grouped(r, "rows") << " | " << grouped(r, "points") << " | " << grouped(r, "flights") << " | "
            << str(r, "reps") << " | " << num(dbl(r, "s_p50"), 3) << " s | **" << grouped(rps) << "** | "
            << grouped(r, "rows_per_s_best") << " | " << num(dbl(r, "parse_s_p50"), 3) << " s / "
-           << num(dbl(r, "assemble_s_p50"), 3) << " s | " << grouped(r, "peak_rss_mib") << " MiB | " << met(ok) << " |\n";
-      targets.push_back({"1", "ingest " + label, "≥ 1,000,000 rows/s", grouped(rps) + " rows/s", ok});
+           << num(dbl(r, "assemble_s_p50"), 3) << " s | " << grouped(r, "peak_rss_mib") << " MiB | " << (is_target ? met(ok) : "(reference)") << " |\n";
+      if (is_target) targets.push_back({"1", "ingest " + label, "≥ 1,000,000 rows/s", grouped(rps) + " rows/s", ok});
+      else targets.push_back({"1", "ingest " + label + " (SO6 segment lines, not state vectors)", "– (≥ 1,000,000 rows/s for comparison)",
+                              grouped(rps) + " rows/s", ok, true});
     }
     for (const json* r : find("make_csv"))
       body << "\nGenerated input " << code(std::filesystem::path(str(r, "file")).filename().string()) << ": "
@@ -172,7 +178,9 @@ int main(int argc, char** argv) {
             "cached, the tile itself is rendered again (the tile bytes are cached by the server, see the "
             "HTTP rows and §4). Backend `cpu` is the TBB reference; `opencl` runs the kernel on PoCL ("
          << m("opencl") << "). Europe = the SO6 day, drawn with no gap limit (its Douglas-Peucker segments "
-            "are long); demo = the generated US day. Target: cold p50 ≤ 20 ms.\n\n"
+            "are long); demo = the generated US day. Target: cold p50 ≤ 20 ms for the path the service runs: "
+            "its `auto` backend never picks OpenCL on PoCL's CPU device (density_lines.hpp), so the target applies "
+            "to the `cpu` rows; the `opencl` rows are reference figures.\n\n"
             "| data | tile | backend (ran on) | runs | **cold p50** | cold p95 | span-warm p50 | span-warm p95 | max count | PNG bytes | target (cold) |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("tile", {{"impl", "trailscope"}, {"mode", "cold"}})) {
@@ -182,10 +190,16 @@ int main(int argc, char** argv) {
       body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " " << str(r, "label") << " | "
            << str(r, "backend") << " (" << str(r, "path") << ") | " << str(r, "reps") << " | **" << ms(r, "ms_p50")
            << " ms** | " << ms(r, "ms_p95") << " ms | " << ms(w, "ms_p50") << " ms | " << ms(w, "ms_p95") << " ms | "
-           << grouped(r, "max_count") << " | " << grouped(r, "png_bytes") << " | " << met(ok) << " |\n";
-      if (str(r, "dataset") == "europe")
-        targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", " + str(r, "backend"), "≤ 20 ms",
-                           ms(r, "ms_p50") + " ms", ok});
+           << grouped(r, "max_count") << " | " << grouped(r, "png_bytes") << " | "
+           << (str(r, "backend") == "cpu" ? met(ok) : "(reference)") << " |\n";
+      if (str(r, "dataset") == "europe") {
+        if (str(r, "backend") == "cpu")
+          targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", cpu (the service's path)", "≤ 20 ms",
+                             ms(r, "ms_p50") + " ms", ok});
+        else
+          targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", opencl (PoCL; `auto` does not pick it)",
+                             "– (≤ 20 ms for comparison)", ms(r, "ms_p50") + " ms", ok, true});
+      }
     }
     if (const json* f = find1("tile_first_call"))
       body << "\nFirst OpenCL call of a process (context, queue, kernel build; PoCL keeps compiled kernels in "
@@ -290,7 +304,9 @@ int main(int argc, char** argv) {
       for (const auto& q : (*r)["sql"]) body << q.get<std::string>() << ";\n";
       body << "```\n";
     }
-    body << "\n### Tile (count per pixel, adsb.exposed style)\n\n"
+    body << "\n### Tile, informational: ClickHouse points per pixel (adsb.exposed style)\n\n"
+            "**Not a like-for-like comparison and not a target** (the target is the line tile below): ClickHouse "
+            "counts points per pixel, TrailScope draws line segments.\n\n"
             "ClickHouse rasterises **points**: `GROUP BY bitShiftRight(my − y0, s) · 256 + bitShiftRight(mx − x0, s)` "
             "over the tile's Mercator range and Morton range, returning (pixel, count) rows; its result was checked "
             "pixel for pixel against a C++ point raster of the same points. TrailScope rasterises the **line "
@@ -300,25 +316,72 @@ int main(int argc, char** argv) {
             "The column *count only* is TrailScope's part that corresponds to the peer's query (prepare the "
             "segments + rasterise the counts on the CPU, p50 of the stage timings in §3), without the colour span, "
             "shading and PNG.\n\n"
-            "| data | tile | points in tile | point pixels | TrailScope cold p50 | TrailScope span-warm p50 | TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | **speed-up cold** | speed-up span-warm | speed-up count only | agree | target ≥ 3× |\n"
+            "| data | tile | points in tile | point pixels | TrailScope cold p50 | TrailScope span-warm p50 | TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | speed-up cold | speed-up span-warm | **speed-up count only** | agree (vs C++ point raster) | |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("tile_peer")) {
       const double sp = dbl(r, "speedup_cold");
       const bool match = r->value("match", false);
-      const bool ok = sp >= 3;
+      const double sp_co = dbl(r, "clickhouse_server_ms_p50") / dbl(r, "trailscope_count_only_ms_p50");
+      const bool ok = sp_co >= 3;
       body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "points_in_tile") << " | "
            << grouped(r, "point_pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
            << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "trailscope_count_only_ms_p50") << " ms | "
            << ms(r, "clickhouse_server_ms_p50") << " ms | "
-           << ms(r, "clickhouse_wall_ms_p50") << " ms | " << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | "
-           << ratio(dbl(r, "speedup_span_warm")) << " | "
-           << ratio(dbl(r, "clickhouse_server_ms_p50") / dbl(r, "trailscope_count_only_ms_p50")) << " | " << (match ? "yes" : "**NO — MISMATCH**") << " | " << met(ok) << " |\n";
-      targets.push_back({"5", "tile vs ClickHouse, " + str(r, "dataset") + " " + str(r, "tile") + " (cold)", "≥ 3× faster",
-                         ratio(sp) + (match ? "" : " (MISMATCH)"), ok});
+           << ms(r, "clickhouse_wall_ms_p50") << " ms | " << str(r, "clickhouse_layout") << " | " << ratio(sp) << " | "
+           << ratio(dbl(r, "speedup_span_warm")) << " | **" << ratio(sp_co) << "** | "
+           << (match ? "yes" : "**NO — MISMATCH**") << " | (reference) |\n";
+      targets.push_back({"5", "ClickHouse points per pixel vs TrailScope's count-only line aggregate, " + str(r, "dataset") +
+                             " " + str(r, "tile") + " (informational: not the same tile)",
+                         "– (≥ 3× for comparison)", ratio(sp_co) + (match ? "" : " (MISMATCH)"), ok, true});
     }
     if (const json* r = find1("tile", {{"impl", "clickhouse"}, {"layout", "m"}}))
-      body << "\nThe SQL of one tile (" << str(r, "dataset") << " " << str(r, "tile") << ", layout m):\n\n```sql\n"
+      body << "\nThe SQL of one point tile (" << str(r, "dataset") << " " << str(r, "tile") << ", layout m):\n\n```sql\n"
            << str(r, "sql") << ";\n```\n";
+
+    body << "\n### Tile (line density, the same counts): the target\n\n"
+            "ClickHouse computes **the same line-density counts** as TrailScope's aggregate: the benchmark loads a "
+            "segment table (one row per pair of consecutive samples of a flight: both endpoints' UInt32 Mercator "
+            "x/y, the second unwrapped the short way across 180°, their bounding box, both times and altitudes, "
+            "and the time since the previous sample, which decides whether the segment continues a run) in two "
+            "layouts, ORDER BY (flight_id, seg) and ORDER BY (ymin, xmin). The SQL selects the segments whose "
+            "bbox meets the tile (and, with a gap limit, t1 − t0 ≤ max_gap), turns each into one row per pixel "
+            "column it crosses inside the tile (`arrayJoin(range(n))`), computes in that column the pixel rows "
+            "between the segment's y at the column's two edges — exactly, in UInt64 integer arithmetic "
+            "(`intDiv` and the remainder of (x − lx)·|dy| / dx), with the half-open pixel rule of "
+            "density_lines.hpp — and turns those into one row per pixel (a second `arrayJoin`); each "
+            "(segment, pixel) pair arises once by construction; the first endpoint's pixel is dropped for a "
+            "segment that continues a run (the shared-vertex rule); GROUP BY pixel, count(). Its result is "
+            "compared pixel for pixel with TrailScope's count aggregate of the same 256 px tile "
+            "(`density_lines_ref(prepare_line_segments(...))`). ClickHouse returns numbers only: no colour span, "
+            "shading or PNG, so the comparison flatters the peer. Speed-up = ClickHouse exec p50 (best layout) / "
+            "TrailScope p50. Target: TrailScope's cold tile (a new renderer: span + segments + rasterise + shade + "
+            "PNG) ≥ 3× faster; the span-warm and count-only ratios are given for reference.\n\n"
+            "| data | tile | segment-pixel passes | pixels | TrailScope cold p50 | TrailScope span-warm p50 | TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | **speed-up cold** | speed-up span-warm | speed-up count only | counts agree | target ≥ 3× (cold) |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json* r : find("tile_peer_lines")) {
+      // From the unrounded medians (the record's speedup_* fields are rounded to 0.01).
+      const double ch_ms = dbl(r, "clickhouse_server_ms_p50");
+      const double sp = ch_ms / dbl(r, "trailscope_cold_ms_p50"), spw = ch_ms / dbl(r, "trailscope_span_warm_ms_p50");
+      const bool match = r->value("match", false);
+      const bool ok = sp >= 3;
+      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "segment_pixels") << " | "
+           << grouped(r, "pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
+           << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "trailscope_count_only_ms_p50") << " ms | "
+           << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50") << " ms | "
+           << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | " << ratio(spw) << " | "
+           << ratio(ch_ms / dbl(r, "trailscope_count_only_ms_p50")) << " | "
+           << (match ? "yes, every pixel" : "**NO — MISMATCH**") << " | " << met(ok) << " |\n";
+      const std::string t = str(r, "dataset") + " " + str(r, "tile");
+      targets.push_back({"5", "line tile vs ClickHouse line tile, " + t + " (TrailScope cold)", "≥ 3× faster",
+                         ratio(sp) + (match ? "" : " (MISMATCH)"), ok && match});
+      targets.push_back({"5", "line tile vs ClickHouse line tile, " + t + " (TrailScope span warm)", "– (≥ 3× for comparison)",
+                         ratio(spw) + (match ? "" : " (MISMATCH)"), spw >= 3 && match, true});
+    }
+    for (const json* r : find("tile_peer_lines"))
+      if (r->contains("mismatch")) body << "\nMismatch " << str(r, "dataset") << " " << str(r, "tile") << ": " << (*r)["mismatch"].dump() << "\n";
+    if (const json* r = find1("tile", {{"impl", "clickhouse_lines"}, {"dataset", "europe"}}))
+      body << "\nThe SQL of one line tile (" << str(r, "dataset") << " " << str(r, "tile") << ", table " << str(r, "table")
+           << "; the same text for every tile with its constants):\n\n```sql\n" << str(r, "sql") << ";\n```\n";
     body << "\n";
 
     // ---- assemble ----------------------------------------------------------------------------------
@@ -352,13 +415,27 @@ int main(int argc, char** argv) {
        << " |\n| CPU used by other processes during the run | " << m("other_cpu_s") << " s (" << m("other_cpu_pct")
        << " % of " << m("cores") << " cores × the run time) |\n| run time of the whole script | " << m("duration_s")
        << " s |\n\n";
-    md << "## Targets\n\n| # | what | target | measured (p50) | |\n|---|---|---|---|---|\n";
+    md << "## Targets\n\n"
+          "Rows marked **target** are the issue's targets: ingest ≥ 1 M state-vector rows/s (OpenSky CSV), summary "
+          "p50 ≤ 50 ms, cold tile p50 ≤ 20 ms on the path the service runs (`cpu`: `auto` never picks OpenCL on "
+          "PoCL), cached-tile throughput ≥ 20,000 req/s, summary and tile ≥ 3× faster than ClickHouse on the same "
+          "data in the same run (the tile: ClickHouse computing the same line-density counts, TrailScope's full "
+          "cold tile). Rows marked *reference* are shown for context and are not counted: SO6 ingest, the OpenCL "
+          "tile rows, TrailScope's span-warm tile against ClickHouse's line tile, and ClickHouse's point tile "
+          "(points per pixel) against TrailScope's count-only line aggregate, which are not the same tile.\n\n"
+          "| # | what | target | measured (p50) | kind | |\n|---|---|---|---|---|---|\n";
     int n_ok = 0;
-    for (const auto& t : targets) {
-      md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured << " | " << met(t.ok) << " |\n";
-      n_ok += t.ok;
-    }
-    md << "\n" << n_ok << " of " << targets.size() << " targets met.\n\n";
+    std::size_t n_targets = 0;
+    for (const auto& t : targets)
+      if (!t.reference) {
+        md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured << " | **target** | " << met(t.ok) << " |\n";
+        n_ok += t.ok, ++n_targets;
+      }
+    for (const auto& t : targets)
+      if (t.reference)
+        md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured << " | *reference* | "
+           << (t.ok ? "(would meet)" : "(would not meet)") << " |\n";
+    md << "\n" << n_ok << " of " << n_targets << " targets met (reference rows not counted).\n\n";
     bool mismatch = false;
     for (const json& r : records)
       if (r.contains("match") && !r["match"].get<bool>()) mismatch = true;
@@ -410,7 +487,7 @@ int main(int argc, char** argv) {
     std::ofstream out(a.get("out"));
     out << md.str();
     if (!out) throw std::runtime_error("cannot write " + a.get("out"));
-    std::cerr << "wrote " << a.get("out") << " (" << n_ok << "/" << targets.size() << " targets met"
+    std::cerr << "wrote " << a.get("out") << " (" << n_ok << "/" << n_targets << " targets met"
               << (mismatch ? ", MISMATCH" : "") << ")\n";
     return 0;
   } catch (const std::exception& e) {

@@ -3,7 +3,10 @@
 // with the span cached (the tile itself is never cached in-process: the server's LRU does that, measured
 // by http_bench and wrk), on the CPU reference and on the OpenCL backend; a per-stage breakdown; and, with
 // --clickhouse, the adsb.exposed-style tile in ClickHouse 18.16 (points per pixel by integer shifts of
-// UInt32 Mercator columns, GROUP BY pixel) over the same points, checked against a C++ point raster.
+// UInt32 Mercator columns, GROUP BY pixel) over the same points, checked against a C++ point raster
+// (informational: not the same tile), and the LINE-density tile in ClickHouse (peer_line_tile_sql over a
+// segment table: the same counts as TrailScope's aggregate, checked pixel for pixel against
+// density_lines_ref on the tile's canvas), which the tile target compares with.
 //
 //   tile_bench [--so6 PATH] [--demo-flights N] [--reps 15] [--demo-reps 7] [--clickhouse URL] [--ch-reps 10]
 //
@@ -11,7 +14,8 @@
 // long), and, with --demo-flights, the generated US day (default gap).
 // Records: {"bench":"dataset"}, {"bench":"tile","impl":"trailscope","backend","mode":"cold"|"span_warm"},
 // {"bench":"tile_first_call"} (the first OpenCL call of the process: context + kernel build),
-// {"bench":"tile_stages"}, {"bench":"peer_load"}, {"bench":"tile","impl":"clickhouse"}, {"bench":"tile_peer"}.
+// {"bench":"tile_stages"}, {"bench":"peer_load"}, {"bench":"tile","impl":"clickhouse"|"clickhouse_lines"},
+// {"bench":"tile_peer"} (point tile), {"bench":"tile_peer_lines"} (line tile).
 #include <cmath>
 #include <limits>
 
