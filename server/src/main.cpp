@@ -5,7 +5,8 @@
 #include "trailscope/core/error.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"TrailScope " TRAILSCOPE_VERSION ": visual analytics of multidimensional time-dependent trails"};
+  CLI::App app{"TrailScope " TRAILSCOPE_VERSION
+               ": visual analytics of multidimensional time-dependent trails"};
   app.set_version_flag("--version", TRAILSCOPE_VERSION);
   app.require_subcommand(1);
   trailscope::cli::add_serve(app);

@@ -18,7 +18,8 @@ namespace {
 std::vector<json> records;
 std::map<std::string, std::string> meta;
 
-std::vector<const json*> find(const std::string& bench, const std::map<std::string, std::string>& where = {}) {
+std::vector<const json*> find(const std::string& bench,
+                              const std::map<std::string, std::string>& where = {}) {
   std::vector<const json*> out;
   for (const json& r : records) {
     if (r.value("bench", "") != bench) continue;
@@ -40,7 +41,9 @@ std::string num(double v, int decimals) {
   return o.str();
 }
 /// Milliseconds with a precision that suits the size.
-std::string ms(double v) { return v >= 100 ? num(v, 0) : v >= 10 ? num(v, 1) : num(v, 2); }
+std::string ms(double v) {
+  return v >= 100 ? num(v, 0) : v >= 10 ? num(v, 1) : num(v, 2);
+}
 std::string ms(const json* r, const std::string& key) {
   return r && r->contains(key) && (*r)[key].is_number() ? ms((*r)[key].get<double>()) : "–";
 }
@@ -63,19 +66,25 @@ std::string ratio(double v) {
   if (v >= 1) return num(v, v >= 10 ? 0 : 1) + "×";
   return num(v, 2) + "× (ClickHouse " + num(1 / v, 1 / v >= 10 ? 0 : 1) + "× faster)";
 }
-std::string met(bool ok) { return ok ? "**met**" : "**not met**"; }
+std::string met(bool ok) {
+  return ok ? "**met**" : "**not met**";
+}
 std::string str(const json* r, const std::string& key) {
-  return r && r->contains(key) ? ((*r)[key].is_string() ? (*r)[key].get<std::string>() : (*r)[key].dump()) : "–";
+  return r && r->contains(key) ? ((*r)[key].is_string() ? (*r)[key].get<std::string>() : (*r)[key].dump())
+                               : "–";
 }
 double dbl(const json* r, const std::string& key, double def = NAN) {
   return r && r->contains(key) && (*r)[key].is_number() ? (*r)[key].get<double>() : def;
 }
-std::string code(const std::string& s) { return "`" + s + "`"; }
+std::string code(const std::string& s) {
+  return "`" + s + "`";
+}
 
 struct Target {
   std::string item, what, target, measured;
   bool ok;
-  bool reference = false;  ///< shown for context in the targets table, not a target of the issue (not counted)
+  bool reference =
+      false;  ///< shown for context in the targets table, not a target of the issue (not counted)
 };
 
 }  // namespace
@@ -121,7 +130,8 @@ int main(int argc, char** argv) {
             "(SO6: segment lines; CSV: state vectors). Median of the runs. The issue's target is ≥ 1,000,000 "
             "**state-vector** rows/s (the OpenSky CSV inputs); the SO6 day (Douglas-Peucker segment lines, a "
             "different format) is reported for reference, not held to that target.\n\n"
-            "| input | file size | rows | points | flights | runs | time p50 | **rows/s p50** | best rows/s | parse / assemble (p50) | peak RSS | target |\n"
+            "| input | file size | rows | points | flights | runs | time p50 | **rows/s p50** | best rows/s "
+            "| parse / assemble (p50) | peak RSS | target |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("ingest")) {
       const double rps = dbl(r, "rows_per_s_p50");
@@ -132,10 +142,13 @@ int main(int argc, char** argv) {
            << grouped(r, "rows") << " | " << grouped(r, "points") << " | " << grouped(r, "flights") << " | "
            << str(r, "reps") << " | " << num(dbl(r, "s_p50"), 3) << " s | **" << grouped(rps) << "** | "
            << grouped(r, "rows_per_s_best") << " | " << num(dbl(r, "parse_s_p50"), 3) << " s / "
-           << num(dbl(r, "assemble_s_p50"), 3) << " s | " << grouped(r, "peak_rss_mib") << " MiB | " << (is_target ? met(ok) : "(reference)") << " |\n";
-      if (is_target) targets.push_back({"1", "ingest " + label, "≥ 1,000,000 rows/s", grouped(rps) + " rows/s", ok});
-      else targets.push_back({"1", "ingest " + label + " (SO6 segment lines, not state vectors)", "– (≥ 1,000,000 rows/s for comparison)",
-                              grouped(rps) + " rows/s", ok, true});
+           << num(dbl(r, "assemble_s_p50"), 3) << " s | " << grouped(r, "peak_rss_mib") << " MiB | "
+           << (is_target ? met(ok) : "(reference)") << " |\n";
+      if (is_target)
+        targets.push_back({"1", "ingest " + label, "≥ 1,000,000 rows/s", grouped(rps) + " rows/s", ok});
+      else
+        targets.push_back({"1", "ingest " + label + " (SO6 segment lines, not state vectors)",
+                           "– (≥ 1,000,000 rows/s for comparison)", grouped(rps) + " rows/s", ok, true});
     }
     for (const json* r : find("make_csv"))
       body << "\nGenerated input " << code(std::filesystem::path(str(r, "file")).filename().string()) << ": "
@@ -149,22 +162,26 @@ int main(int argc, char** argv) {
     body << "## 2. Summary latency\n\n"
             "`trailscope::summarize()` in process (counts, time histogram, altitude histogram, speed "
             "statistics, top 10 callsigns) over the generated US demo day";
-    if (ds) body << " (" << grouped(ds, "flights") << " flights, **" << grouped(ds, "points") << " points**, generated in "
-                 << num(dbl(ds, "generate_s"), 1) << " s)";
+    if (ds)
+      body << " (" << grouped(ds, "flights") << " flights, **" << grouped(ds, "points")
+           << " points**, generated in " << num(dbl(ds, "generate_s"), 1) << " s)";
     body << ", and the same request through the server (`GET /api/v1/datasets/demo/summary?...`, one "
             "keep-alive connection, sequential; includes JSON encoding and HTTP). Target: p50 ≤ 50 ms.\n\n"
-            "| window | query | matching points | flights | runs | **p50** | p95 | min | max | HTTP p50 | HTTP p95 | target |\n"
+            "| window | query | matching points | flights | runs | **p50** | p95 | min | max | HTTP p50 | "
+            "HTTP p95 | target |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("summary", {{"impl", "trailscope"}})) {
       const std::string w = str(r, "window");
       const json* h = find1("http", {{"label", "summary_" + w}});
       std::string params;
-      for (const auto& [k, v] : (*r)["params"].items()) params += (params.empty() ? "" : "&") + k + "=" + v.get<std::string>();
+      for (const auto& [k, v] : (*r)["params"].items())
+        params += (params.empty() ? "" : "&") + k + "=" + v.get<std::string>();
       const bool ok = dbl(r, "ms_p50") <= 50;
-      body << "| " << str(r, "label") << " | " << (params.empty() ? "–" : code(params)) << " | " << grouped(r, "points")
-           << " | " << grouped(r, "flights") << " | " << str(r, "reps") << " | **" << ms(r, "ms_p50") << " ms** | "
-           << ms(r, "ms_p95") << " ms | " << ms(r, "ms_min") << " ms | " << ms(r, "ms_max") << " ms | "
-           << ms(h, "ms_p50") << " ms | " << ms(h, "ms_p95") << " ms | " << met(ok) << " |\n";
+      body << "| " << str(r, "label") << " | " << (params.empty() ? "–" : code(params)) << " | "
+           << grouped(r, "points") << " | " << grouped(r, "flights") << " | " << str(r, "reps") << " | **"
+           << ms(r, "ms_p50") << " ms** | " << ms(r, "ms_p95") << " ms | " << ms(r, "ms_min") << " ms | "
+           << ms(r, "ms_max") << " ms | " << ms(h, "ms_p50") << " ms | " << ms(h, "ms_p95") << " ms | "
+           << met(ok) << " |\n";
       targets.push_back({"2", "summary p50, " + str(r, "label"), "≤ 50 ms", ms(r, "ms_p50") + " ms", ok});
     }
     body << "\n";
@@ -177,219 +194,293 @@ int main(int argc, char** argv) {
             "(a coarse aggregate of the whole data extent) is computed too; **span warm** = the span is "
             "cached, the tile itself is rendered again (the tile bytes are cached by the server, see the "
             "HTTP rows and §4). Backend `cpu` is the TBB reference; `opencl` runs the kernel on PoCL ("
-         << m("opencl") << "). Europe = the SO6 day, drawn with no gap limit (its Douglas-Peucker segments "
+         << m("opencl")
+         << "). Europe = the SO6 day, drawn with no gap limit (its Douglas-Peucker segments "
             "are long); demo = the generated US day. Target: cold p50 ≤ 20 ms for the path the service runs: "
-            "its `auto` backend never picks OpenCL on PoCL's CPU device (density_lines.hpp), so the target applies "
+            "its `auto` backend never picks OpenCL on PoCL's CPU device (density_lines.hpp), so the target "
+            "applies "
             "to the `cpu` rows; the `opencl` rows are reference figures.\n\n"
-            "| data | tile | backend (ran on) | runs | **cold p50** | cold p95 | span-warm p50 | span-warm p95 | max count | PNG bytes | target (cold) |\n"
+            "| data | tile | backend (ran on) | runs | **cold p50** | cold p95 | span-warm p50 | span-warm "
+            "p95 | max count | PNG bytes | target (cold) |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("tile", {{"impl", "trailscope"}, {"mode", "cold"}})) {
-      const json* w = find1("tile", {{"impl", "trailscope"}, {"mode", "span_warm"}, {"dataset", str(r, "dataset")},
-                                     {"tile", str(r, "tile")}, {"backend", str(r, "backend")}});
+      const json* w = find1("tile", {{"impl", "trailscope"},
+                                     {"mode", "span_warm"},
+                                     {"dataset", str(r, "dataset")},
+                                     {"tile", str(r, "tile")},
+                                     {"backend", str(r, "backend")}});
       const bool ok = dbl(r, "ms_p50") <= 20;
       body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " " << str(r, "label") << " | "
-           << str(r, "backend") << " (" << str(r, "path") << ") | " << str(r, "reps") << " | **" << ms(r, "ms_p50")
-           << " ms** | " << ms(r, "ms_p95") << " ms | " << ms(w, "ms_p50") << " ms | " << ms(w, "ms_p95") << " ms | "
-           << grouped(r, "max_count") << " | " << grouped(r, "png_bytes") << " | "
-           << (str(r, "backend") == "cpu" ? met(ok) : "(reference)") << " |\n";
+           << str(r, "backend") << " (" << str(r, "path") << ") | " << str(r, "reps") << " | **"
+           << ms(r, "ms_p50") << " ms** | " << ms(r, "ms_p95") << " ms | " << ms(w, "ms_p50") << " ms | "
+           << ms(w, "ms_p95") << " ms | " << grouped(r, "max_count") << " | " << grouped(r, "png_bytes")
+           << " | " << (str(r, "backend") == "cpu" ? met(ok) : "(reference)") << " |\n";
       if (str(r, "dataset") == "europe") {
         if (str(r, "backend") == "cpu")
-          targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", cpu (the service's path)", "≤ 20 ms",
-                             ms(r, "ms_p50") + " ms", ok});
+          targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", cpu (the service's path)",
+                             "≤ 20 ms", ms(r, "ms_p50") + " ms", ok});
         else
-          targets.push_back({"3", "tile cold p50, europe " + str(r, "tile") + ", opencl (PoCL; `auto` does not pick it)",
-                             "– (≤ 20 ms for comparison)", ms(r, "ms_p50") + " ms", ok, true});
+          targets.push_back(
+              {"3", "tile cold p50, europe " + str(r, "tile") + ", opencl (PoCL; `auto` does not pick it)",
+               "– (≤ 20 ms for comparison)", ms(r, "ms_p50") + " ms", ok, true});
       }
     }
     if (const json* f = find1("tile_first_call"))
-      body << "\nFirst OpenCL call of a process (context, queue, kernel build; PoCL keeps compiled kernels in "
-           << code("POCL_CACHE_DIR") << ", here empty at the start of the run): " << ms(f, "ms") << " ms (ran on "
-           << str(f, "path") << ").\n";
+      body
+          << "\nFirst OpenCL call of a process (context, queue, kernel build; PoCL keeps compiled kernels in "
+          << code("POCL_CACHE_DIR") << ", here empty at the start of the run): " << ms(f, "ms")
+          << " ms (ran on " << str(f, "path") << ").\n";
     body << "\nWhere a tile's time goes (each stage timed on its own, p50; the cold tile is roughly span + "
             "prepare + rasterise + shade + PNG):\n\n"
-            "| data | tile | segments drawn | span estimate | prepare segments | rasterise cpu | rasterise opencl | raster + shade | PNG encode |\n"
+            "| data | tile | segments drawn | span estimate | prepare segments | rasterise cpu | rasterise "
+            "opencl | raster + shade | PNG encode |\n"
             "|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("tile_stages"))
       body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "segments") << " | "
            << ms(r, "span_estimate_ms_p50") << " ms | " << ms(r, "prepare_segments_ms_p50") << " ms | "
-           << ms(r, "density_lines_cpu_ms_p50") << " ms | " << ms(r, "density_lines_opencl_ms_p50") << " ms | "
-           << ms(r, "raster_shade_ms_p50") << " ms | " << ms(r, "encode_png_ms_p50") << " ms |\n";
+           << ms(r, "density_lines_cpu_ms_p50") << " ms | " << ms(r, "density_lines_opencl_ms_p50")
+           << " ms | " << ms(r, "raster_shade_ms_p50") << " ms | " << ms(r, "encode_png_ms_p50") << " ms |\n";
     const auto http_tiles = find("http");
     bool any_tile_http = false;
     for (const json* h : http_tiles) {
       if (str(h, "label").rfind("tile_", 0) != 0) continue;
       if (!any_tile_http)
-        body << "\nThrough the server (one keep-alive connection, sequential requests; **cold** = each request a new "
-                "cache key, by a `t1` after the data: same image, tile and span both computed; **warm** = the same URL, "
-                "served from the server's tile LRU):\n\n| request | runs | p50 | p95 | bytes |\n|---|---|---|---|---|\n";
+        body << "\nThrough the server (one keep-alive connection, sequential requests; **cold** = each "
+                "request a new "
+                "cache key, by a `t1` after the data: same image, tile and span both computed; **warm** = "
+                "the same URL, "
+                "served from the server's tile LRU):\n\n| request | runs | p50 | p95 | bytes "
+                "|\n|---|---|---|---|---|\n";
       any_tile_http = true;
-      body << "| " << str(h, "label") << " " << code(str(h, "path")) << " | " << str(h, "reps") << " | " << ms(h, "ms_p50")
-           << " ms | " << ms(h, "ms_p95") << " ms | " << grouped(h, "bytes") << " |\n";
+      body << "| " << str(h, "label") << " " << code(str(h, "path")) << " | " << str(h, "reps") << " | "
+           << ms(h, "ms_p50") << " ms | " << ms(h, "ms_p95") << " ms | " << grouped(h, "bytes") << " |\n";
     }
     {
-      const json* inproc = find1("tile", {{"impl", "trailscope"}, {"dataset", "europe"}, {"tile", "4/8/5"}, {"backend", "cpu"}, {"mode", "cold"}});
+      const json* inproc = find1("tile", {{"impl", "trailscope"},
+                                          {"dataset", "europe"},
+                                          {"tile", "4/8/5"},
+                                          {"backend", "cpu"},
+                                          {"mode", "cold"}});
       const json* served = find1("http", {{"label", "tile_europe_4_8_5_warm"}});
       if (inproc && served && dbl(inproc, "png_bytes") != dbl(served, "bytes"))
-        body << "\nNote: the server's PNG of europe 4/8/5 (" << grouped(served, "bytes") << " bytes) differs from the "
-                "in-process one (" << grouped(inproc, "png_bytes") << " bytes): the tile route does not set "
-                "`TileRequest::max_gap_seconds` from the dataset's format, so it draws the SO6 day with the default "
-                "30-min gap (fewer segments) where the rows above use +inf as density_lines.hpp recommends for "
+        body << "\nNote: the server's PNG of europe 4/8/5 (" << grouped(served, "bytes")
+             << " bytes) differs from the "
+                "in-process one ("
+             << grouped(inproc, "png_bytes")
+             << " bytes): the tile route does not set "
+                "`TileRequest::max_gap_seconds` from the dataset's format, so it draws the SO6 day with the "
+                "default "
+                "30-min gap (fewer segments) where the rows above use +inf as density_lines.hpp recommends "
+                "for "
                 "SO6.\n";
     }
     body << "\n";
 
     // ---- 4. wrk ----------------------------------------------------------------------------------
     body << "## 4. Cached-tile throughput (wrk over loopback)\n\n"
-            "`wrk -t2 -c50 -d5s --latency` against the running server (2 I/O threads); wrk and the server share "
+            "`wrk -t2 -c50 -d5s --latency` against the running server (2 I/O threads); wrk and the server "
+            "share "
             "the machine's cores. Target: ≥ 20,000 requests/s for a tile already in the cache.\n\n"
-            "| request | requests/s | latency p50 | p90 | p99 | non-2xx/3xx | target |\n|---|---|---|---|---|---|---|\n";
+            "| request | requests/s | latency p50 | p90 | p99 | non-2xx/3xx | target "
+            "|\n|---|---|---|---|---|---|---|\n";
     for (const json* r : find("wrk")) {
       const std::string label = str(r, "label");
       const bool is_target = label == "tile_cached_200";
       const bool ok = dbl(r, "requests_per_s") >= 20000;
-      body << "| " << label << " | **" << grouped(r, "requests_per_s") << "** | " << ms(r, "latency_p50_ms") << " ms | "
-           << ms(r, "latency_p90_ms") << " ms | " << ms(r, "latency_p99_ms") << " ms | " << str(r, "non_2xx_3xx") << " | "
-           << (is_target ? met(ok) : "(reference)") << " |\n";
-      if (is_target) targets.push_back({"4", "cached tile throughput (wrk, 200 from the LRU)", "≥ 20,000 req/s",
-                                        grouped(r, "requests_per_s") + " req/s", ok});
+      body << "| " << label << " | **" << grouped(r, "requests_per_s") << "** | " << ms(r, "latency_p50_ms")
+           << " ms | " << ms(r, "latency_p90_ms") << " ms | " << ms(r, "latency_p99_ms") << " ms | "
+           << str(r, "non_2xx_3xx") << " | " << (is_target ? met(ok) : "(reference)") << " |\n";
+      if (is_target)
+        targets.push_back({"4", "cached tile throughput (wrk, 200 from the LRU)", "≥ 20,000 req/s",
+                           grouped(r, "requests_per_s") + " req/s", ok});
     }
-    body << "\n`tile_cached_304` sends the tile's ETag in If-None-Match (the browser's revalidation); `health` is "
+    body << "\n`tile_cached_304` sends the tile's ETag in If-None-Match (the browser's revalidation); "
+            "`health` is "
             "`GET /api/v1/health`, the server's floor for a tiny response.\n\n";
 
     // ---- 5. peer ---------------------------------------------------------------------------------
-    body << "## 5. Peer: ClickHouse " << m("clickhouse") << "\n\n"
-            "Started by the script on 127.0.0.1 with its own data folder and stock settings (max_threads = 2), "
-            "stopped at the end. The same points (one row per TrailSet point: t, flight_id, callsign, lat, lon, alt, "
-            "speed, on_ground, plus adsb.exposed's UInt32 Mercator `mx`/`my` and their Morton key, materialised at "
-            "insert) were loaded as RowBinary over HTTP (exact float bits) into two layouts: **m** = `ORDER BY "
-            "(morton, t)` (adsb.exposed's key), **hm** = the same with `PARTITION BY` hour (the time-first layout "
-            "the ClickHouse baseline found best for windows); both merged to final parts (`OPTIMIZE … FINAL`). "
-            "With a bbox, a variant adds the Morton ranges of the tiles covering it (`+morton`), which lets the "
-            "primary key skip granules. The peer's figure is its **fastest** layout/variant. ClickHouse "
-            "times are its own `statistics.elapsed` (execution, no HTTP; the HTTP round trip is also listed); "
-            "TrailScope's are in process. Speed-up = ClickHouse p50 / TrailScope p50 (exec: ClickHouse's elapsed vs "
-            "TrailScope in process; HTTP: both through their HTTP interfaces on loopback, ClickHouse's being the sum "
-            "of its queries' round trips). Target: ≥ 3×.\n\n";
+    body
+        << "## 5. Peer: ClickHouse " << m("clickhouse")
+        << "\n\n"
+           "Started by the script on 127.0.0.1 with its own data folder and stock settings (max_threads = "
+           "2), "
+           "stopped at the end. The same points (one row per TrailSet point: t, flight_id, callsign, lat, "
+           "lon, alt, "
+           "speed, on_ground, plus adsb.exposed's UInt32 Mercator `mx`/`my` and their Morton key, "
+           "materialised at "
+           "insert) were loaded as RowBinary over HTTP (exact float bits) into two layouts: **m** = `ORDER "
+           "BY "
+           "(morton, t)` (adsb.exposed's key), **hm** = the same with `PARTITION BY` hour (the time-first "
+           "layout "
+           "the ClickHouse baseline found best for windows); both merged to final parts (`OPTIMIZE … "
+           "FINAL`). "
+           "With a bbox, a variant adds the Morton ranges of the tiles covering it (`+morton`), which lets "
+           "the "
+           "primary key skip granules. The peer's figure is its **fastest** layout/variant. ClickHouse "
+           "times are its own `statistics.elapsed` (execution, no HTTP; the HTTP round trip is also listed); "
+           "TrailScope's are in process. Speed-up = ClickHouse p50 / TrailScope p50 (exec: ClickHouse's "
+           "elapsed vs "
+           "TrailScope in process; HTTP: both through their HTTP interfaces on loopback, ClickHouse's being "
+           "the sum "
+           "of its queries' round trips). Target: ≥ 3×.\n\n";
     for (const json* r : find("peer_load"))
       body << "- load " << code(str(r, "table") + "_*") << ": " << grouped(r, "rows") << " rows"
-           << (r->value("reused", false) ? " (tables reused from an earlier step)"
-                                         : ", insert " + num(dbl(r, "insert_total_ms") / 1000, 1) + " s (" +
-                                               grouped(r, "insert_rows_per_s") + " rows/s over HTTP), optimize + second layout " +
-                                               num((dbl(r, "optimize_ms") + dbl(r, "second_layout_ms")) / 1000, 1) + " s")
+           << (r->value("reused", false)
+                   ? " (tables reused from an earlier step)"
+                   : ", insert " + num(dbl(r, "insert_total_ms") / 1000, 1) + " s (" +
+                         grouped(r, "insert_rows_per_s") + " rows/s over HTTP), optimize + second layout " +
+                         num((dbl(r, "optimize_ms") + dbl(r, "second_layout_ms")) / 1000, 1) + " s")
            << "\n";
     body << "\n### Summary (same filters, same bins; checked: counts, both histograms, time range, speed "
-            "count/min/max/mean, top callsigns identical; speed p50/p95 within 2 m/s — ours come from a 0.25 m/s "
+            "count/min/max/mean, top callsigns identical; speed p50/p95 within 2 m/s — ours come from a 0.25 "
+            "m/s "
             "histogram, ClickHouse's from a t-digest)\n\n"
-            "| window | TrailScope p50 | TrailScope HTTP p50 | ClickHouse p50 (exec) | ClickHouse HTTP p50 | best layout | **speed-up** (exec) | speed-up (HTTP) | results agree | target ≥ 3× |\n"
+            "| window | TrailScope p50 | TrailScope HTTP p50 | ClickHouse p50 (exec) | ClickHouse HTTP p50 | "
+            "best layout | **speed-up** (exec) | speed-up (HTTP) | results agree | target ≥ 3× |\n"
             "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("summary_peer")) {
       const json* h = find1("http", {{"label", "summary_" + str(r, "window")}});
       const double sp = dbl(r, "speedup");
       const bool match = r->value("match", false);
       const bool ok = sp >= 3;
-      body << "| " << str(r, "label") << " | " << ms(r, "trailscope_ms_p50") << " ms | " << ms(h, "ms_p50") << " ms | "
-           << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50") << " ms | "
-           << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | "
-           << ratio(dbl(r, "clickhouse_wall_ms_p50") / dbl(h, "ms_p50")) << " | " << (match ? "yes" : "**NO — MISMATCH**") << " | "
-           << met(ok) << " |\n";
-      targets.push_back({"5", "summary vs ClickHouse, " + str(r, "label"), "≥ 3× faster", ratio(sp) + (match ? "" : " (MISMATCH)"), ok});
+      body << "| " << str(r, "label") << " | " << ms(r, "trailscope_ms_p50") << " ms | " << ms(h, "ms_p50")
+           << " ms | " << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50")
+           << " ms | " << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | "
+           << ratio(dbl(r, "clickhouse_wall_ms_p50") / dbl(h, "ms_p50")) << " | "
+           << (match ? "yes" : "**NO — MISMATCH**") << " | " << met(ok) << " |\n";
+      targets.push_back({"5", "summary vs ClickHouse, " + str(r, "label"), "≥ 3× faster",
+                         ratio(sp) + (match ? "" : " (MISMATCH)"), ok});
     }
-    body << "\nEvery layout/variant (ClickHouse exec p50 / p95, ms):\n\n| window | layout | p50 | p95 | HTTP p50 | agree |\n|---|---|---|---|---|---|\n";
+    body << "\nEvery layout/variant (ClickHouse exec p50 / p95, ms):\n\n| window | layout | p50 | p95 | HTTP "
+            "p50 | agree |\n|---|---|---|---|---|---|\n";
     for (const json* r : find("summary", {{"impl", "clickhouse"}}))
-      body << "| " << str(r, "window") << " | " << str(r, "layout") << " | " << ms(r, "server_ms_p50") << " | "
-           << ms(r, "server_ms_p95") << " | " << ms(r, "wall_ms_p50") << " | " << (r->value("match", false) ? "yes" : "**NO**") << " |\n";
-    if (const json* r = find1("summary", {{"impl", "clickhouse"}, {"window", "bbox_alt_2h"}, {"layout", "hm+morton"}})) {
-      body << "\nThe SQL of one window (bbox + band + 2 h, layout hm+morton): three queries, each a scan of the "
-              "filtered rows (one aggregate with `sumMap` histograms instead was 2–3× slower on 18.16):\n\n```sql\n";
+      body << "| " << str(r, "window") << " | " << str(r, "layout") << " | " << ms(r, "server_ms_p50")
+           << " | " << ms(r, "server_ms_p95") << " | " << ms(r, "wall_ms_p50") << " | "
+           << (r->value("match", false) ? "yes" : "**NO**") << " |\n";
+    if (const json* r =
+            find1("summary", {{"impl", "clickhouse"}, {"window", "bbox_alt_2h"}, {"layout", "hm+morton"}})) {
+      body << "\nThe SQL of one window (bbox + band + 2 h, layout hm+morton): three queries, each a scan of "
+              "the "
+              "filtered rows (one aggregate with `sumMap` histograms instead was 2–3× slower on "
+              "18.16):\n\n```sql\n";
       for (const auto& q : (*r)["sql"]) body << q.get<std::string>() << ";\n";
       body << "```\n";
     }
     body << "\n### Tile, informational: ClickHouse points per pixel (adsb.exposed style)\n\n"
-            "**Not a like-for-like comparison and not a target** (the target is the line tile below): ClickHouse "
+            "**Not a like-for-like comparison and not a target** (the target is the line tile below): "
+            "ClickHouse "
             "counts points per pixel, TrailScope draws line segments.\n\n"
-            "ClickHouse rasterises **points**: `GROUP BY bitShiftRight(my − y0, s) · 256 + bitShiftRight(mx − x0, s)` "
-            "over the tile's Mercator range and Morton range, returning (pixel, count) rows; its result was checked "
+            "ClickHouse rasterises **points**: `GROUP BY bitShiftRight(my − y0, s) · 256 + bitShiftRight(mx "
+            "− x0, s)` "
+            "over the tile's Mercator range and Morton range, returning (pixel, count) rows; its result was "
+            "checked "
             "pixel for pixel against a C++ point raster of the same points. TrailScope rasterises the **line "
-            "segments** between consecutive points (every pixel a segment crosses; many more pixels than points for "
+            "segments** between consecutive points (every pixel a segment crosses; many more pixels than "
+            "points for "
             "sparse data such as SO6) and then shades and PNG-encodes them: more work than the peer does. "
             "Speed-up = ClickHouse exec p50 / TrailScope p50 (cold, and with the span cached).\n\n"
             "The column *count only* is TrailScope's part that corresponds to the peer's query (prepare the "
-            "segments + rasterise the counts on the CPU, p50 of the stage timings in §3), without the colour span, "
+            "segments + rasterise the counts on the CPU, p50 of the stage timings in §3), without the colour "
+            "span, "
             "shading and PNG.\n\n"
-            "| data | tile | points in tile | point pixels | TrailScope cold p50 | TrailScope span-warm p50 | TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | speed-up cold | speed-up span-warm | **speed-up count only** | agree (vs C++ point raster) | |\n"
+            "| data | tile | points in tile | point pixels | TrailScope cold p50 | TrailScope span-warm p50 "
+            "| TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | speed-up cold "
+            "| speed-up span-warm | **speed-up count only** | agree (vs C++ point raster) | |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("tile_peer")) {
       const double sp = dbl(r, "speedup_cold");
       const bool match = r->value("match", false);
       const double sp_co = dbl(r, "clickhouse_server_ms_p50") / dbl(r, "trailscope_count_only_ms_p50");
       const bool ok = sp_co >= 3;
-      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "points_in_tile") << " | "
-           << grouped(r, "point_pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
-           << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "trailscope_count_only_ms_p50") << " ms | "
-           << ms(r, "clickhouse_server_ms_p50") << " ms | "
-           << ms(r, "clickhouse_wall_ms_p50") << " ms | " << str(r, "clickhouse_layout") << " | " << ratio(sp) << " | "
+      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "points_in_tile")
+           << " | " << grouped(r, "point_pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
+           << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "trailscope_count_only_ms_p50")
+           << " ms | " << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50")
+           << " ms | " << str(r, "clickhouse_layout") << " | " << ratio(sp) << " | "
            << ratio(dbl(r, "speedup_span_warm")) << " | **" << ratio(sp_co) << "** | "
            << (match ? "yes" : "**NO — MISMATCH**") << " | (reference) |\n";
-      targets.push_back({"5", "ClickHouse points per pixel vs TrailScope's count-only line aggregate, " + str(r, "dataset") +
-                             " " + str(r, "tile") + " (informational: not the same tile)",
+      targets.push_back({"5",
+                         "ClickHouse points per pixel vs TrailScope's count-only line aggregate, " +
+                             str(r, "dataset") + " " + str(r, "tile") + " (informational: not the same tile)",
                          "– (≥ 3× for comparison)", ratio(sp_co) + (match ? "" : " (MISMATCH)"), ok, true});
     }
     if (const json* r = find1("tile", {{"impl", "clickhouse"}, {"layout", "m"}}))
-      body << "\nThe SQL of one point tile (" << str(r, "dataset") << " " << str(r, "tile") << ", layout m):\n\n```sql\n"
+      body << "\nThe SQL of one point tile (" << str(r, "dataset") << " " << str(r, "tile")
+           << ", layout m):\n\n```sql\n"
            << str(r, "sql") << ";\n```\n";
 
-    body << "\n### Tile (line density, the same counts): the target\n\n"
-            "ClickHouse computes **the same line-density counts** as TrailScope's aggregate: the benchmark loads a "
-            "segment table (one row per pair of consecutive samples of a flight: both endpoints' UInt32 Mercator "
-            "x/y, the second unwrapped the short way across 180°, their bounding box, both times and altitudes, "
-            "and the time since the previous sample, which decides whether the segment continues a run) in two "
-            "layouts, ORDER BY (flight_id, seg) and ORDER BY (ymin, xmin). The SQL selects the segments whose "
-            "bbox meets the tile (and, with a gap limit, t1 − t0 ≤ max_gap), turns each into one row per pixel "
-            "column it crosses inside the tile (`arrayJoin(range(n))`), computes in that column the pixel rows "
-            "between the segment's y at the column's two edges — exactly, in UInt64 integer arithmetic "
-            "(`intDiv` and the remainder of (x − lx)·|dy| / dx), with the half-open pixel rule of "
-            "density_lines.hpp — and turns those into one row per pixel (a second `arrayJoin`); each "
-            "(segment, pixel) pair arises once by construction; the first endpoint's pixel is dropped for a "
-            "segment that continues a run (the shared-vertex rule); GROUP BY pixel, count(). Its result is "
-            "compared pixel for pixel with TrailScope's count aggregate of the same 256 px tile "
-            "(`density_lines_ref(prepare_line_segments(...))`). ClickHouse returns numbers only: no colour span, "
-            "shading or PNG, so the comparison flatters the peer. Speed-up = ClickHouse exec p50 (best layout) / "
-            "TrailScope p50. Target: TrailScope's cold tile (a new renderer: span + segments + rasterise + shade + "
-            "PNG) ≥ 3× faster; the span-warm and count-only ratios are given for reference.\n\n"
-            "| data | tile | segment-pixel passes | pixels | TrailScope cold p50 | TrailScope span-warm p50 | TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | **speed-up cold** | speed-up span-warm | speed-up count only | counts agree | target ≥ 3× (cold) |\n"
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    body
+        << "\n### Tile (line density, the same counts): the target\n\n"
+           "ClickHouse computes **the same line-density counts** as TrailScope's aggregate: the benchmark "
+           "loads a "
+           "segment table (one row per pair of consecutive samples of a flight: both endpoints' UInt32 "
+           "Mercator "
+           "x/y, the second unwrapped the short way across 180°, their bounding box, both times and "
+           "altitudes, "
+           "and the time since the previous sample, which decides whether the segment continues a run) in "
+           "two "
+           "layouts, ORDER BY (flight_id, seg) and ORDER BY (ymin, xmin). The SQL selects the segments whose "
+           "bbox meets the tile (and, with a gap limit, t1 − t0 ≤ max_gap), turns each into one row per "
+           "pixel "
+           "column it crosses inside the tile (`arrayJoin(range(n))`), computes in that column the pixel "
+           "rows "
+           "between the segment's y at the column's two edges — exactly, in UInt64 integer arithmetic "
+           "(`intDiv` and the remainder of (x − lx)·|dy| / dx), with the half-open pixel rule of "
+           "density_lines.hpp — and turns those into one row per pixel (a second `arrayJoin`); each "
+           "(segment, pixel) pair arises once by construction; the first endpoint's pixel is dropped for a "
+           "segment that continues a run (the shared-vertex rule); GROUP BY pixel, count(). Its result is "
+           "compared pixel for pixel with TrailScope's count aggregate of the same 256 px tile "
+           "(`density_lines_ref(prepare_line_segments(...))`). ClickHouse returns numbers only: no colour "
+           "span, "
+           "shading or PNG, so the comparison flatters the peer. Speed-up = ClickHouse exec p50 (best "
+           "layout) / "
+           "TrailScope p50. Target: TrailScope's cold tile (a new renderer: span + segments + rasterise + "
+           "shade + "
+           "PNG) ≥ 3× faster; the span-warm and count-only ratios are given for reference.\n\n"
+           "| data | tile | segment-pixel passes | pixels | TrailScope cold p50 | TrailScope span-warm p50 | "
+           "TrailScope count only | ClickHouse p50 (exec) | ClickHouse HTTP p50 | layout | **speed-up cold** "
+           "| speed-up span-warm | speed-up count only | counts agree | target ≥ 3× (cold) |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json* r : find("tile_peer_lines")) {
       // From the unrounded medians (the record's speedup_* fields are rounded to 0.01).
       const double ch_ms = dbl(r, "clickhouse_server_ms_p50");
-      const double sp = ch_ms / dbl(r, "trailscope_cold_ms_p50"), spw = ch_ms / dbl(r, "trailscope_span_warm_ms_p50");
+      const double sp = ch_ms / dbl(r, "trailscope_cold_ms_p50"),
+                   spw = ch_ms / dbl(r, "trailscope_span_warm_ms_p50");
       const bool match = r->value("match", false);
       const bool ok = sp >= 3;
-      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "segment_pixels") << " | "
-           << grouped(r, "pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
-           << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "trailscope_count_only_ms_p50") << " ms | "
-           << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50") << " ms | "
-           << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | " << ratio(spw) << " | "
-           << ratio(ch_ms / dbl(r, "trailscope_count_only_ms_p50")) << " | "
+      body << "| " << str(r, "dataset") << " | " << str(r, "tile") << " | " << grouped(r, "segment_pixels")
+           << " | " << grouped(r, "pixels") << " | " << ms(r, "trailscope_cold_ms_p50") << " ms | "
+           << ms(r, "trailscope_span_warm_ms_p50") << " ms | " << ms(r, "trailscope_count_only_ms_p50")
+           << " ms | " << ms(r, "clickhouse_server_ms_p50") << " ms | " << ms(r, "clickhouse_wall_ms_p50")
+           << " ms | " << str(r, "clickhouse_layout") << " | **" << ratio(sp) << "** | " << ratio(spw)
+           << " | " << ratio(ch_ms / dbl(r, "trailscope_count_only_ms_p50")) << " | "
            << (match ? "yes, every pixel" : "**NO — MISMATCH**") << " | " << met(ok) << " |\n";
       const std::string t = str(r, "dataset") + " " + str(r, "tile");
       targets.push_back({"5", "line tile vs ClickHouse line tile, " + t + " (TrailScope cold)", "≥ 3× faster",
                          ratio(sp) + (match ? "" : " (MISMATCH)"), ok && match});
-      targets.push_back({"5", "line tile vs ClickHouse line tile, " + t + " (TrailScope span warm)", "– (≥ 3× for comparison)",
-                         ratio(spw) + (match ? "" : " (MISMATCH)"), spw >= 3 && match, true});
+      targets.push_back({"5", "line tile vs ClickHouse line tile, " + t + " (TrailScope span warm)",
+                         "– (≥ 3× for comparison)", ratio(spw) + (match ? "" : " (MISMATCH)"),
+                         spw >= 3 && match, true});
     }
     for (const json* r : find("tile_peer_lines"))
-      if (r->contains("mismatch")) body << "\nMismatch " << str(r, "dataset") << " " << str(r, "tile") << ": " << (*r)["mismatch"].dump() << "\n";
+      if (r->contains("mismatch"))
+        body << "\nMismatch " << str(r, "dataset") << " " << str(r, "tile") << ": " << (*r)["mismatch"].dump()
+             << "\n";
     if (const json* r = find1("tile", {{"impl", "clickhouse_lines"}, {"dataset", "europe"}}))
-      body << "\nThe SQL of one line tile (" << str(r, "dataset") << " " << str(r, "tile") << ", table " << str(r, "table")
-           << "; the same text for every tile with its constants):\n\n```sql\n" << str(r, "sql") << ";\n```\n";
+      body << "\nThe SQL of one line tile (" << str(r, "dataset") << " " << str(r, "tile") << ", table "
+           << str(r, "table") << "; the same text for every tile with its constants):\n\n```sql\n"
+           << str(r, "sql") << ";\n```\n";
     body << "\n";
 
     // ---- assemble ----------------------------------------------------------------------------------
     std::ostringstream md;
     md << "# TrailScope benchmarks\n\n"
-          "Written by `tests/bench/run_benchmarks.sh` (`make bench`) on " << m("date") << "; do not edit by hand. "
+          "Written by `tests/bench/run_benchmarks.sh` (`make bench`) on "
+       << m("date")
+       << "; do not edit by hand. "
           "Every figure is measured on the machine below in that run; latencies are medians (p50) with p95 "
-          "where given, over the number of runs shown. Raw records: `tests/bench/out/results.jsonl` (git-ignored).\n\n";
+          "where given, over the number of runs shown. Raw records: `tests/bench/out/results.jsonl` "
+          "(git-ignored).\n\n";
     double load = NAN;
     try {
       load = std::stod(m("load_start"));
@@ -403,38 +494,50 @@ int main(int argc, char** argv) {
     } catch (...) {
     }
     if ((std::isfinite(load) && load > 1.0) || (std::isfinite(other_pct) && other_pct > 5.0))
-      md << "> **Noise warning**: other work (builds, tests) was running on this " << m("cores") << "-core machine: "
+      md << "> **Noise warning**: other work (builds, tests) was running on this " << m("cores")
+         << "-core machine: "
          << "load average " << m("load_start") << " when the run started, and other processes used "
-         << m("other_cpu_s") << " CPU-seconds (" << m("other_cpu_pct") << " % of the machine) while it ran. The "
+         << m("other_cpu_s") << " CPU-seconds (" << m("other_cpu_pct")
+         << " % of the machine) while it ran. The "
             "numbers may be noisy (slower than on a quiet machine).\n\n";
     md << "## Machine\n\n| | |\n|---|---|\n"
-       << "| CPU | " << m("cpu") << " |\n| cores | " << m("cores") << " |\n| memory | " << m("memory") << " |\n"
-       << "| OS | " << m("os") << " |\n| compiler | " << m("compiler") << " |\n| OpenCL device (clinfo -l) | " << m("opencl")
-       << " |\n| peer | ClickHouse " << m("clickhouse") << " |\n| load generator | " << m("wrk") << " |\n"
+       << "| CPU | " << m("cpu") << " |\n| cores | " << m("cores") << " |\n| memory | " << m("memory")
+       << " |\n"
+       << "| OS | " << m("os") << " |\n| compiler | " << m("compiler") << " |\n| OpenCL device (clinfo -l) | "
+       << m("opencl") << " |\n| peer | ClickHouse " << m("clickhouse") << " |\n| load generator | "
+       << m("wrk") << " |\n"
        << "| commit | " << m("commit") << " |\n| load average (1/5/15 min) at the start | " << m("load_start")
-       << " |\n| CPU used by other processes during the run | " << m("other_cpu_s") << " s (" << m("other_cpu_pct")
-       << " % of " << m("cores") << " cores × the run time) |\n| run time of the whole script | " << m("duration_s")
-       << " s |\n\n";
+       << " |\n| CPU used by other processes during the run | " << m("other_cpu_s") << " s ("
+       << m("other_cpu_pct") << " % of " << m("cores")
+       << " cores × the run time) |\n| run time of the whole script | " << m("duration_s") << " s |\n\n";
     md << "## Targets\n\n"
-          "Rows marked **target** are the issue's targets: ingest ≥ 1 M state-vector rows/s (OpenSky CSV), summary "
-          "p50 ≤ 50 ms, cold tile p50 ≤ 20 ms on the path the service runs (`cpu`: `auto` never picks OpenCL on "
-          "PoCL), cached-tile throughput ≥ 20,000 req/s, summary and tile ≥ 3× faster than ClickHouse on the same "
-          "data in the same run (the tile: ClickHouse computing the same line-density counts, TrailScope's full "
-          "cold tile). Rows marked *reference* are shown for context and are not counted: SO6 ingest, the OpenCL "
-          "tile rows, TrailScope's span-warm tile against ClickHouse's line tile, and ClickHouse's point tile "
-          "(points per pixel) against TrailScope's count-only line aggregate, which are not the same tile.\n\n"
+          "Rows marked **target** are the issue's targets: ingest ≥ 1 M state-vector rows/s (OpenSky CSV), "
+          "summary "
+          "p50 ≤ 50 ms, cold tile p50 ≤ 20 ms on the path the service runs (`cpu`: `auto` never picks OpenCL "
+          "on "
+          "PoCL), cached-tile throughput ≥ 20,000 req/s, summary and tile ≥ 3× faster than ClickHouse on the "
+          "same "
+          "data in the same run (the tile: ClickHouse computing the same line-density counts, TrailScope's "
+          "full "
+          "cold tile). Rows marked *reference* are shown for context and are not counted: SO6 ingest, the "
+          "OpenCL "
+          "tile rows, TrailScope's span-warm tile against ClickHouse's line tile, and ClickHouse's point "
+          "tile "
+          "(points per pixel) against TrailScope's count-only line aggregate, which are not the same "
+          "tile.\n\n"
           "| # | what | target | measured (p50) | kind | |\n|---|---|---|---|---|---|\n";
     int n_ok = 0;
     std::size_t n_targets = 0;
     for (const auto& t : targets)
       if (!t.reference) {
-        md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured << " | **target** | " << met(t.ok) << " |\n";
+        md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured
+           << " | **target** | " << met(t.ok) << " |\n";
         n_ok += t.ok, ++n_targets;
       }
     for (const auto& t : targets)
       if (t.reference)
-        md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured << " | *reference* | "
-           << (t.ok ? "(would meet)" : "(would not meet)") << " |\n";
+        md << "| " << t.item << " | " << t.what << " | " << t.target << " | " << t.measured
+           << " | *reference* | " << (t.ok ? "(would meet)" : "(would not meet)") << " |\n";
     md << "\n" << n_ok << " of " << n_targets << " targets met (reference rows not counted).\n\n";
     bool mismatch = false;
     for (const json& r : records)
@@ -450,33 +553,42 @@ int main(int argc, char** argv) {
             << " % of the time (reading, decompressing, parsing, and the per-point work done while reading), "
                "building the TrailSet the rest.\n";
       for (const json* st : find("tile_stages", {{"dataset", "europe"}})) {
-        const json* cold = find1("tile", {{"impl", "trailscope"}, {"mode", "cold"}, {"backend", "cpu"},
-                                          {"dataset", "europe"}, {"tile", str(st, "tile")}});
+        const json* cold = find1("tile", {{"impl", "trailscope"},
+                                          {"mode", "cold"},
+                                          {"backend", "cpu"},
+                                          {"dataset", "europe"},
+                                          {"tile", str(st, "tile")}});
         if (!cold) continue;
-        obs << "- Tile europe " << str(st, "tile") << " (cold " << ms(cold, "ms_p50") << " ms on the CPU): the shared "
-            << "colour span is " << ms(st, "span_estimate_ms_p50") << " ms of it (" 
+        obs << "- Tile europe " << str(st, "tile") << " (cold " << ms(cold, "ms_p50")
+            << " ms on the CPU): the shared "
+            << "colour span is " << ms(st, "span_estimate_ms_p50") << " ms of it ("
             << num(100 * dbl(st, "span_estimate_ms_p50") / dbl(cold, "ms_p50"), 0) << " %), preparing the "
-            << grouped(st, "segments") << " segments " << ms(st, "prepare_segments_ms_p50") << " ms, rasterising "
-            << ms(st, "density_lines_cpu_ms_p50") << " ms (OpenCL on PoCL: " << ms(st, "density_lines_opencl_ms_p50")
-            << " ms), PNG " << ms(st, "encode_png_ms_p50") << " ms.\n";
+            << grouped(st, "segments") << " segments " << ms(st, "prepare_segments_ms_p50")
+            << " ms, rasterising " << ms(st, "density_lines_cpu_ms_p50")
+            << " ms (OpenCL on PoCL: " << ms(st, "density_lines_opencl_ms_p50") << " ms), PNG "
+            << ms(st, "encode_png_ms_p50") << " ms.\n";
         break;  // one example; the table in §3 has the others
       }
       for (const json* st : find("tile_stages", {{"dataset", "demo"}})) {
         obs << "- Tile demo " << str(st, "tile") << " (" << grouped(st, "segments") << " segments): span "
-            << ms(st, "span_estimate_ms_p50") << " ms and segment preparation " << ms(st, "prepare_segments_ms_p50")
-            << " ms dominate; rasterising is " << ms(st, "density_lines_cpu_ms_p50") << " ms.\n";
+            << ms(st, "span_estimate_ms_p50") << " ms and segment preparation "
+            << ms(st, "prepare_segments_ms_p50") << " ms dominate; rasterising is "
+            << ms(st, "density_lines_cpu_ms_p50") << " ms.\n";
         break;
       }
       const json* w = find1("summary", {{"impl", "trailscope"}, {"window", "whole_day"}});
       const json* hw = find1("http", {{"label", "summary_whole_day"}});
       if (w && hw)
         obs << "- Summary through the server costs " << ms(dbl(hw, "ms_p50") - dbl(w, "ms_p50"))
-            << " ms more than in process for the whole day (JSON and HTTP; the two series also ran at different moments).\n";
+            << " ms more than in process for the whole day (JSON and HTTP; the two series also ran at "
+               "different moments).\n";
       if (const json* wr = find1("wrk", {{"label", "tile_cached_200"}}); wr)
         if (const json* wh = find1("wrk", {{"label", "health"}}))
           obs << "- A cached tile (" << grouped(find1("http", {{"label", "tile_europe_4_8_5_warm"}}), "bytes")
-              << " bytes) is served at " << num(100 * dbl(wr, "requests_per_s") / dbl(wh, "requests_per_s"), 0)
-              << " % of the rate of the tiny health response (the difference is the cost of the larger body).\n";
+              << " bytes) is served at "
+              << num(100 * dbl(wr, "requests_per_s") / dbl(wh, "requests_per_s"), 0)
+              << " % of the rate of the tiny health response (the difference is the cost of the larger "
+                 "body).\n";
       if (!obs.str().empty()) md << "## Observations (computed from this run)\n\n" << obs.str() << "\n";
     }
     md << body.str();

@@ -49,7 +49,9 @@ using Clock = std::chrono::steady_clock;
 inline double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
-inline double ms_since(Clock::time_point a) { return ms_between(a, Clock::now()); }
+inline double ms_since(Clock::time_point a) {
+  return ms_between(a, Clock::now());
+}
 
 /// Order statistics of a sample of timings. Percentiles interpolate linearly between order statistics
 /// (numpy's default), so p50 of an even-sized sample is the mean of the two middle values.
@@ -92,7 +94,9 @@ struct Stats {
 inline void emit(const json& j) {
   std::cout << j.dump() << std::endl;
 }
-inline void log(const std::string& s) { std::cerr << s << std::endl; }
+inline void log(const std::string& s) {
+  std::cerr << s << std::endl;
+}
 
 /// Peak resident set size of this process so far, MiB.
 inline double peak_rss_mib() {
@@ -215,10 +219,11 @@ class HttpClient {
       const bool reused = fd_ >= 0;
       try {
         if (fd_ < 0) connect_();
-        std::string head = method + " " + target + " HTTP/1.1\r\nHost: " + host_ + ":" + std::to_string(port_) +
-                           "\r\nConnection: keep-alive\r\n";
+        std::string head = method + " " + target + " HTTP/1.1\r\nHost: " + host_ + ":" +
+                           std::to_string(port_) + "\r\nConnection: keep-alive\r\n";
         for (const auto& [k, v] : headers) head += k + ": " + v + "\r\n";
-        if (!body.empty() || method == "POST") head += "Content-Length: " + std::to_string(body.size()) + "\r\n";
+        if (!body.empty() || method == "POST")
+          head += "Content-Length: " + std::to_string(body.size()) + "\r\n";
         head += "\r\n";
         send_all_(head.data(), head.size());
         send_all_(body.data(), body.size());
@@ -297,7 +302,8 @@ class HttpClient {
   HttpResponse read_response_(bool head_only) {
     HttpResponse r;
     const std::string status = take_line_();
-    if (status.size() < 12 || status.rfind("HTTP/1.", 0) != 0) throw std::runtime_error("bad status line: " + status);
+    if (status.size() < 12 || status.rfind("HTTP/1.", 0) != 0)
+      throw std::runtime_error("bad status line: " + status);
     r.status = std::stoi(status.substr(9, 3));
     for (;;) {
       const std::string line = take_line_();
@@ -317,7 +323,8 @@ class HttpClient {
       for (;;) {
         const std::size_t n = std::stoul(take_line_(), nullptr, 16);
         if (n == 0) {
-          while (!take_line_().empty()) {}  // trailers
+          while (!take_line_().empty()) {
+          }  // trailers
           break;
         }
         r.body += take_bytes_(n);
@@ -326,7 +333,8 @@ class HttpClient {
     } else if (cl != r.headers.end()) {
       r.body = take_bytes_(std::stoul(cl->second));
     } else {
-      while (fill_()) {}
+      while (fill_()) {
+      }
       r.body = std::move(buf_);
       buf_.clear();
       close_();
@@ -364,7 +372,9 @@ inline std::string lit(double v) {
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a Float64 literal
   return s;
 }
-inline std::string lit(std::uint64_t v) { return std::to_string(v); }
+inline std::string lit(std::uint64_t v) {
+  return std::to_string(v);
+}
 
 class ClickHouse {
  public:
@@ -373,14 +383,18 @@ class ClickHouse {
   /// Runs a statement (no result wanted); throws with ClickHouse's message on an error.
   std::string exec(const std::string& sql, const std::string& settings = "") {
     const HttpResponse r = http_.request("POST", "/?" + settings, sql);
-    if (r.status != 200) throw std::runtime_error("ClickHouse " + std::to_string(r.status) + ": " + r.body.substr(0, 2000) + "\nSQL: " + sql);
+    if (r.status != 200)
+      throw std::runtime_error("ClickHouse " + std::to_string(r.status) + ": " + r.body.substr(0, 2000) +
+                               "\nSQL: " + sql);
     return r.body;
   }
   /// INSERT with a binary body.
   void insert(const std::string& table, const std::string& format, const std::string& body) {
     const std::string q = "INSERT INTO " + table + " FORMAT " + format;
     const HttpResponse r = http_.request("POST", "/?query=" + url_encode(q), body);
-    if (r.status != 200) throw std::runtime_error("ClickHouse insert " + std::to_string(r.status) + ": " + r.body.substr(0, 2000));
+    if (r.status != 200)
+      throw std::runtime_error("ClickHouse insert " + std::to_string(r.status) + ": " +
+                               r.body.substr(0, 2000));
   }
 
   struct Timed {
@@ -392,11 +406,13 @@ class ClickHouse {
   Timed query(const std::string& select) {
     const std::string sql = select + " FORMAT JSONCompact";
     const auto t0 = Clock::now();
-    const HttpResponse r =
-        http_.request("POST", "/?output_format_json_quote_64bit_integers=0&output_format_json_quote_denormals=1", sql);
+    const HttpResponse r = http_.request(
+        "POST", "/?output_format_json_quote_64bit_integers=0&output_format_json_quote_denormals=1", sql);
     Timed t;
     t.wall_ms = ms_since(t0);
-    if (r.status != 200) throw std::runtime_error("ClickHouse " + std::to_string(r.status) + ": " + r.body.substr(0, 2000) + "\nSQL: " + sql);
+    if (r.status != 200)
+      throw std::runtime_error("ClickHouse " + std::to_string(r.status) + ": " + r.body.substr(0, 2000) +
+                               "\nSQL: " + sql);
     t.result = json::parse(r.body);
     t.server_ms = t.result["statistics"]["elapsed"].get<double>() * 1000.0;
     return t;
@@ -405,9 +421,7 @@ class ClickHouse {
     const std::string body = exec("SELECT count() FROM " + table);
     return std::stoull(body);
   }
-  bool table_exists(const std::string& table) {
-    return std::stoi(exec("EXISTS TABLE " + table)) == 1;
-  }
+  bool table_exists(const std::string& table) { return std::stoi(exec("EXISTS TABLE " + table)) == 1; }
   std::string version() {
     std::string v = exec("SELECT version()");
     while (!v.empty() && (v.back() == '\n' || v.back() == '\r')) v.pop_back();
@@ -434,7 +448,9 @@ struct PeerLayout {
 inline const std::vector<PeerLayout>& peer_layouts() {
   static const std::vector<PeerLayout> l = {
       {"m", "ENGINE = MergeTree ORDER BY (morton, t) SETTINGS index_granularity = 8192"},
-      {"hm", "ENGINE = MergeTree PARTITION BY intDiv(toUInt32(t), 3600) ORDER BY (morton, t) SETTINGS index_granularity = 8192"},
+      {"hm",
+       "ENGINE = MergeTree PARTITION BY intDiv(toUInt32(t), 3600) ORDER BY (morton, t) SETTINGS "
+       "index_granularity = 8192"},
   };
   return l;
 }
@@ -468,7 +484,8 @@ inline json load_peer(ClickHouse& ch, const std::string& base, const trailscope:
   const auto& my = set.merc_y();
   std::vector<std::uint32_t> fid(n);
   for (std::size_t f = 0; f < set.num_flights(); ++f)
-    for (std::uint32_t i = set.flights()[f].begin; i < set.flights()[f].end; ++i) fid[i] = static_cast<std::uint32_t>(f);
+    for (std::uint32_t i = set.flights()[f].begin; i < set.flights()[f].end; ++i)
+      fid[i] = static_cast<std::uint32_t>(f);
   auto put = [](std::string& s, const auto& v) { s.append(reinterpret_cast<const char*>(&v), sizeof v); };
   const std::string first = base + "_" + peer_layouts()[0].suffix;
   double encode_ms = 0, send_ms = 0;
@@ -516,7 +533,9 @@ inline json load_peer(ClickHouse& ch, const std::string& base, const trailscope:
   const double copy_ms = ms_since(t0);
   for (const auto& l : peer_layouts()) {
     const std::string t = base + "_" + l.suffix;
-    if (ch.count(t) != n) throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) + " rows, expected " + std::to_string(n));
+    if (ch.count(t) != n)
+      throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) +
+                               " rows, expected " + std::to_string(n));
   }
   rec["reused"] = false;
   rec["encode_ms"] = std::round(encode_ms);
@@ -525,8 +544,9 @@ inline json load_peer(ClickHouse& ch, const std::string& base, const trailscope:
   rec["insert_total_ms"] = std::round(insert_ms);
   rec["optimize_ms"] = std::round(optimize_first_ms);
   rec["second_layout_ms"] = std::round(copy_ms);
-  log("ClickHouse: loaded " + std::to_string(n) + " rows into " + base + "_* in " + std::to_string(insert_ms / 1000) +
-      " s (+ " + std::to_string((optimize_first_ms + copy_ms) / 1000) + " s optimize/copy)");
+  log("ClickHouse: loaded " + std::to_string(n) + " rows into " + base + "_* in " +
+      std::to_string(insert_ms / 1000) + " s (+ " + std::to_string((optimize_first_ms + copy_ms) / 1000) +
+      " s optimize/copy)");
   return rec;
 }
 
@@ -549,7 +569,8 @@ inline std::string peer_where(const trailscope::Query& q, bool with_key) {
       // Deepest zoom whose tile cover of the box has at most 16 tiles; merge adjacent Morton ranges.
       namespace geo = trailscope::geo;
       for (int z = 16; z >= 1; --z) {
-        const auto nw = geo::tile_for_lonlat(b.west, b.north, z), se = geo::tile_for_lonlat(b.east, b.south, z);
+        const auto nw = geo::tile_for_lonlat(b.west, b.north, z),
+                   se = geo::tile_for_lonlat(b.east, b.south, z);
         const long long cnt = static_cast<long long>(se.x - nw.x + 1) * (se.y - nw.y + 1);
         if (cnt > 16) continue;
         std::vector<std::pair<std::uint64_t, std::uint64_t>> r;
@@ -563,8 +584,10 @@ inline std::string peer_where(const trailscope::Query& q, bool with_key) {
         std::sort(r.begin(), r.end());
         std::vector<std::pair<std::uint64_t, std::uint64_t>> merged;
         for (const auto& iv : r) {
-          if (!merged.empty() && merged.back().second == iv.first) merged.back().second = iv.second;
-          else merged.push_back(iv);
+          if (!merged.empty() && merged.back().second == iv.first)
+            merged.back().second = iv.second;
+          else
+            merged.push_back(iv);
         }
         std::string k = "(";
         for (std::size_t i = 0; i < merged.size(); ++i) {
@@ -603,17 +626,20 @@ inline std::vector<std::string> peer_summary_sql(const std::string& table, const
   // nudge (1e-4 of a bin) puts values a rounding error below an edge (FL300 = 9144 m) into the upper bin.
   const double t0 = ours.time_histogram.t0, bin = ours.time_histogram.bin_seconds;
   const std::string n1 = std::to_string(tb - 1);
-  const std::string tb0 = "toUInt32(least(" + n1 + ", greatest(0, (t - " + lit(t0) + ") * " + lit(1.0 / bin) + ")))";
-  const std::string time_bin = "(" + tb0 + " + ((" + tb0 + " < " + n1 + ") AND (t >= " + lit(t0) + " + (" + tb0 +
-                               " + 1) * " + lit(bin) + ")))";
+  const std::string tb0 =
+      "toUInt32(least(" + n1 + ", greatest(0, (t - " + lit(t0) + ") * " + lit(1.0 / bin) + ")))";
+  const std::string time_bin = "(" + tb0 + " + ((" + tb0 + " < " + n1 + ") AND (t >= " + lit(t0) + " + (" +
+                               tb0 + " + 1) * " + lit(bin) + ")))";
   const std::string alt_bin = "if(isNaN(alt), 4294967295, toUInt32(least(" + std::to_string(ab - 1) +
-                              ", greatest(0, alt * " + lit(1.0 / (0.3048 * 1000.0)) + " + " + lit(kAltEdgeNudge) + "))))";
+                              ", greatest(0, alt * " + lit(1.0 / (0.3048 * 1000.0)) + " + " +
+                              lit(kAltEdgeNudge) + "))))";
   const std::string known = "NOT isNaN(speed)";
   return {
-      "SELECT count(), uniqExact(flight_id), min(t), max(t), countIf(" + known + "), toFloat64(minIf(speed, " + known +
-          ")), toFloat64(maxIf(speed, " + known + ")), avgIf(speed, " + known + "), quantilesTDigestIf(0.5, 0.95)(speed, " +
-          known + ") FROM " + table + " WHERE " + w,
-      "SELECT " + time_bin + " AS tb, " + alt_bin + " AS ab, count() FROM " + table + " WHERE " + w + " GROUP BY tb, ab",
+      "SELECT count(), uniqExact(flight_id), min(t), max(t), countIf(" + known +
+          "), toFloat64(minIf(speed, " + known + ")), toFloat64(maxIf(speed, " + known + ")), avgIf(speed, " +
+          known + "), quantilesTDigestIf(0.5, 0.95)(speed, " + known + ") FROM " + table + " WHERE " + w,
+      "SELECT " + time_bin + " AS tb, " + alt_bin + " AS ab, count() FROM " + table + " WHERE " + w +
+          " GROUP BY tb, ab",
       "SELECT callsign, uniqExact(flight_id) AS f, count() AS c FROM " + table + " WHERE " + w +
           " AND callsign != '' GROUP BY callsign ORDER BY c DESC, callsign ASC LIMIT 10",
   };
@@ -628,7 +654,8 @@ inline std::vector<std::string> compare_summary(const trailscope::Summary& s, co
   std::vector<std::string> diff;
   const json& row = r1["data"][0];
   auto check = [&](const std::string& what, double ours, double theirs, double tol = 0) {
-    if (!(std::fabs(ours - theirs) <= tol)) diff.push_back(what + ": trailscope " + lit(ours) + " vs clickhouse " + lit(theirs));
+    if (!(std::fabs(ours - theirs) <= tol))
+      diff.push_back(what + ": trailscope " + lit(ours) + " vs clickhouse " + lit(theirs));
   };
   check("points", static_cast<double>(s.points), row[0].get<double>());
   check("flights", static_cast<double>(s.flights), row[1].get<double>());
@@ -639,18 +666,26 @@ inline std::vector<std::string> compare_summary(const trailscope::Summary& s, co
   std::vector<std::uint64_t> th(s.time_histogram.counts.size(), 0), ah(s.altitude_histogram.counts.size(), 0);
   for (const auto& g : r2["data"]) {
     const auto tb = g[0].get<std::uint64_t>(), ab = g[1].get<std::uint64_t>(), c = g[2].get<std::uint64_t>();
-    if (tb < th.size()) th[tb] += c;
-    else diff.push_back("time_histogram: clickhouse bin " + std::to_string(tb) + " beyond " + std::to_string(th.size()));
+    if (tb < th.size())
+      th[tb] += c;
+    else
+      diff.push_back("time_histogram: clickhouse bin " + std::to_string(tb) + " beyond " +
+                     std::to_string(th.size()));
     if (ab == 4294967295ull) continue;  // unknown altitude
-    if (ab < ah.size()) ah[ab] += c;
-    else diff.push_back("altitude_histogram: clickhouse bin " + std::to_string(ab) + " beyond " + std::to_string(ah.size()));
+    if (ab < ah.size())
+      ah[ab] += c;
+    else
+      diff.push_back("altitude_histogram: clickhouse bin " + std::to_string(ab) + " beyond " +
+                     std::to_string(ah.size()));
   }
-  auto hist = [&](const std::string& what, const std::vector<std::uint64_t>& ours, const std::vector<std::uint64_t>& theirs) {
+  auto hist = [&](const std::string& what, const std::vector<std::uint64_t>& ours,
+                  const std::vector<std::uint64_t>& theirs) {
     std::size_t bad = 0;
     std::string first;
     for (std::size_t i = 0; i < ours.size(); ++i)
       if (ours[i] != theirs[i] && bad++ < 4)
-        first += " [" + std::to_string(i) + "] " + std::to_string(ours[i]) + " vs " + std::to_string(theirs[i]) + ";";
+        first += " [" + std::to_string(i) + "] " + std::to_string(ours[i]) + " vs " +
+                 std::to_string(theirs[i]) + ";";
     if (bad)
       diff.push_back(what + ": " + std::to_string(bad) + " of " + std::to_string(ours.size()) +
                      " bins differ (trailscope vs clickhouse:" + first + " ...)");
@@ -667,14 +702,15 @@ inline std::vector<std::string> compare_summary(const trailscope::Summary& s, co
   }
   const json& top = r3["data"];
   if (top.size() != s.top_callsigns.size()) {
-    diff.push_back("top_callsigns: " + std::to_string(s.top_callsigns.size()) + " vs " + std::to_string(top.size()) + " entries");
+    diff.push_back("top_callsigns: " + std::to_string(s.top_callsigns.size()) + " vs " +
+                   std::to_string(top.size()) + " entries");
   } else {
     for (std::size_t i = 0; i < top.size(); ++i) {
       const auto& c = s.top_callsigns[i];
       if (c.callsign != top[i][0].get<std::string>() || c.flights != top[i][1].get<std::uint64_t>() ||
           c.points != top[i][2].get<std::uint64_t>())
-        diff.push_back("top_callsigns[" + std::to_string(i) + "]: " + c.callsign + " " + std::to_string(c.flights) + "/" +
-                       std::to_string(c.points) + " vs " + top[i].dump());
+        diff.push_back("top_callsigns[" + std::to_string(i) + "]: " + c.callsign + " " +
+                       std::to_string(c.flights) + "/" + std::to_string(c.points) + " vs " + top[i].dump());
     }
   }
   return diff;
@@ -686,28 +722,31 @@ inline std::vector<std::string> compare_summary(const trailscope::Summary& s, co
 inline std::string peer_tile_sql(const std::string& table, const trailscope::geo::TileId& t, int size,
                                  const std::string& extra_where = "") {
   namespace geo = trailscope::geo;
-  const std::uint64_t x0 = static_cast<std::uint64_t>(geo::tile_origin_x(t)), y0 = static_cast<std::uint64_t>(geo::tile_origin_y(t));
+  const std::uint64_t x0 = static_cast<std::uint64_t>(geo::tile_origin_x(t)),
+                      y0 = static_cast<std::uint64_t>(geo::tile_origin_y(t));
   const std::uint64_t span = static_cast<std::uint64_t>(geo::tile_size_units(t.z));
   int size_bits = 0;
   while ((1 << size_bits) < size) ++size_bits;
   const int shift = 32 - t.z - size_bits;
-  std::string w = "mx >= " + lit(x0) + " AND mx < " + lit(x0 + span) + " AND my >= " + lit(y0) + " AND my < " + lit(y0 + span);
+  std::string w = "mx >= " + lit(x0) + " AND mx < " + lit(x0 + span) + " AND my >= " + lit(y0) +
+                  " AND my < " + lit(y0 + span);
   if (t.z > 0) {
     const std::uint64_t m0 = morton(static_cast<std::uint32_t>(x0), static_cast<std::uint32_t>(y0));
     w += " AND morton >= " + lit(m0) + " AND morton < " + lit(m0 + (std::uint64_t{1} << (2 * (32 - t.z))));
   }
   if (!extra_where.empty()) w += " AND " + extra_where;
-  return "SELECT bitShiftRight(my - " + lit(y0) + ", " + std::to_string(shift) + ") * " + std::to_string(size) +
-         " + bitShiftRight(mx - " + lit(x0) + ", " + std::to_string(shift) + ") AS pos, count() AS c FROM " + table +
-         " WHERE " + w + " GROUP BY pos";
+  return "SELECT bitShiftRight(my - " + lit(y0) + ", " + std::to_string(shift) + ") * " +
+         std::to_string(size) + " + bitShiftRight(mx - " + lit(x0) + ", " + std::to_string(shift) +
+         ") AS pos, count() AS c FROM " + table + " WHERE " + w + " GROUP BY pos";
 }
 
 /// The same point raster in C++ (the check of the ClickHouse tile, not a TrailScope code path): counts of
 /// points per pixel of tile `t`, row-major, `size` × `size`.
-inline std::vector<std::uint32_t> point_raster(const trailscope::TrailSet& set, const trailscope::geo::TileId& t,
-                                               int size) {
+inline std::vector<std::uint32_t> point_raster(const trailscope::TrailSet& set,
+                                               const trailscope::geo::TileId& t, int size) {
   namespace geo = trailscope::geo;
-  const std::uint64_t x0 = static_cast<std::uint64_t>(geo::tile_origin_x(t)), y0 = static_cast<std::uint64_t>(geo::tile_origin_y(t));
+  const std::uint64_t x0 = static_cast<std::uint64_t>(geo::tile_origin_x(t)),
+                      y0 = static_cast<std::uint64_t>(geo::tile_origin_y(t));
   const std::uint64_t span = static_cast<std::uint64_t>(geo::tile_size_units(t.z));
   int size_bits = 0;
   while ((1 << size_bits) < size) ++size_bits;
@@ -737,7 +776,8 @@ inline std::vector<std::string> compare_tile(const std::vector<std::uint32_t>& o
   }
   std::size_t bad = 0;
   std::uint64_t sum_o = 0, sum_t = 0;
-  for (std::size_t i = 0; i < ours.size(); ++i) bad += ours[i] != theirs[i], sum_o += ours[i], sum_t += theirs[i];
+  for (std::size_t i = 0; i < ours.size(); ++i)
+    bad += ours[i] != theirs[i], sum_o += ours[i], sum_t += theirs[i];
   if (bad)
     diff.push_back(std::to_string(bad) + " pixels differ (points in tile: bench " + std::to_string(sum_o) +
                    ", clickhouse " + std::to_string(sum_t) + ")");
@@ -806,8 +846,10 @@ inline json load_peer_segments(ClickHouse& ch, const std::string& base, const tr
       const std::int64_t xa = mx[i], ya = my[i];
       std::int64_t xb = mx[i + 1];
       const std::int64_t yb = my[i + 1];
-      if (xb - xa > kHalf) xb -= kWorld;
-      else if (xa - xb > kHalf) xb += kWorld;
+      if (xb - xa > kHalf)
+        xb -= kWorld;
+      else if (xa - xb > kHalf)
+        xb += kWorld;
       const double prev_dt = i > fl.begin ? p.t[i] - p.t[i - 1] : std::numeric_limits<double>::infinity();
       put(body, static_cast<std::uint32_t>(f));
       put(body, static_cast<std::uint32_t>(i - fl.begin));
@@ -816,7 +858,8 @@ inline json load_peer_segments(ClickHouse& ch, const std::string& base, const tr
       put(body, prev_dt);
       put(body, p.alt[i]);
       put(body, p.alt[i + 1]);
-      for (const std::int64_t v : {xa, ya, xb, yb, std::min(xa, xb), std::max(xa, xb), std::min(ya, yb), std::max(ya, yb)})
+      for (const std::int64_t v :
+           {xa, ya, xb, yb, std::min(xa, xb), std::max(xa, xb), std::min(ya, yb), std::max(ya, yb)})
         put(body, v);
       if (++rows == batch) flush();
     }
@@ -833,13 +876,15 @@ inline json load_peer_segments(ClickHouse& ch, const std::string& base, const tr
   const double opt_ms = ms_since(t0);
   for (const auto& l : peer_seg_layouts()) {
     const std::string t = base + "_seg_" + l.suffix;
-    if (ch.count(t) != n) throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) + " rows, expected " + std::to_string(n));
+    if (ch.count(t) != n)
+      throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) +
+                               " rows, expected " + std::to_string(n));
   }
   rec["reused"] = false;
   rec["insert_total_ms"] = std::round(insert_ms);
   rec["optimize_ms"] = std::round(opt_ms);
-  log("ClickHouse: loaded " + std::to_string(n) + " segments into " + base + "_seg_* in " + std::to_string(insert_ms / 1000) +
-      " s (+ " + std::to_string(opt_ms / 1000) + " s optimize/copy)");
+  log("ClickHouse: loaded " + std::to_string(n) + " segments into " + base + "_seg_* in " +
+      std::to_string(insert_ms / 1000) + " s (+ " + std::to_string(opt_ms / 1000) + " s optimize/copy)");
   return rec;
 }
 
@@ -863,34 +908,55 @@ inline std::string peer_line_tile_sql(const std::string& table, const trailscope
   const std::int64_t x0 = geo::tile_origin_x(t), y0 = geo::tile_origin_y(t), span = geo::tile_size_units(t.z);
   const std::int64_t P = span / size, C0 = x0 / P, R0 = y0 / P, S = size;
   const std::string sP = std::to_string(P), sC0 = std::to_string(C0), sR0 = std::to_string(R0);
-  const std::string sCmax = std::to_string(C0 + S - 1), sRmax = std::to_string(R0 + S - 1), sS = std::to_string(S);
+  const std::string sCmax = std::to_string(C0 + S - 1), sRmax = std::to_string(R0 + S - 1),
+                    sS = std::to_string(S);
   const bool gap = std::isfinite(max_gap);
   const std::string cont = gap ? "(seg > 0 AND prev_dt <= " + lit(max_gap) + ")" : "(seg > 0)";
   const std::string segs =
-      "SELECT " + cont + " AS cont, intDiv(xa, " + sP + ") AS pa_c, intDiv(ya, " + sP + ") AS pa_r, "
-      "xa <= xb AS fwd, if(fwd, xa, xb) AS lx, if(fwd, ya, yb) AS ly, if(fwd, xb, xa) AS hx, if(fwd, yb, ya) AS hy, "
+      "SELECT " + cont + " AS cont, intDiv(xa, " + sP + ") AS pa_c, intDiv(ya, " + sP +
+      ") AS pa_r, "
+      "xa <= xb AS fwd, if(fwd, xa, xb) AS lx, if(fwd, ya, yb) AS ly, if(fwd, xb, xa) AS hx, if(fwd, yb, ya) "
+      "AS hy, "
       "hx - lx AS dx, hy - ly AS dy, toUInt64(abs(dy)) AS ady, toUInt64(greatest(dx, 1)) AS ddx, "
-      "greatest(intDiv(lx, " + sP + "), " + sC0 + ") AS c_lo, least(intDiv(hx, " + sP + "), " + sCmax + ") AS c_hi "
-      "FROM " + table + " WHERE xmax >= " + std::to_string(x0) + " AND xmin < " + std::to_string(x0 + span) +
+      "greatest(intDiv(lx, " +
+      sP + "), " + sC0 + ") AS c_lo, least(intDiv(hx, " + sP + "), " + sCmax +
+      ") AS c_hi "
+      "FROM " +
+      table + " WHERE xmax >= " + std::to_string(x0) + " AND xmin < " + std::to_string(x0 + span) +
       " AND ymax >= " + std::to_string(y0) + " AND ymin < " + std::to_string(y0 + span) +
       (gap ? " AND t1 - t0 <= " + lit(max_gap) : "");
   const std::string cols =
       "SELECT cont, pa_c, pa_r, lx, ly, hx, dx, dy, ady, ddx, "
-      "c_lo + toInt64(arrayJoin(range(toUInt64(greatest(c_hi - c_lo + 1, 0))))) AS c FROM (" + segs + ")";
+      "c_lo + toInt64(arrayJoin(range(toUInt64(greatest(c_hi - c_lo + 1, 0))))) AS c FROM (" +
+      segs + ")";
   const std::string rows =
-      "SELECT cont, pa_c, pa_r, c, greatest(lx, c * " + sP + ") AS xl, least(hx, (c + 1) * " + sP + ") AS xr, "
-      "hx >= (c + 1) * " + sP + " AS open_r, "
+      "SELECT cont, pa_c, pa_r, c, greatest(lx, c * " + sP + ") AS xl, least(hx, (c + 1) * " + sP +
+      ") AS xr, "
+      "hx >= (c + 1) * " +
+      sP +
+      " AS open_r, "
       "toUInt64(xl - lx) * ady AS ul, toUInt64(xr - lx) * ady AS ur, "
       "toInt64(intDiv(ul, ddx)) AS ql, ul % ddx AS ml, toInt64(intDiv(ur, ddx)) AS qr, ur % ddx AS mr, "
-      "toInt64(multiIf(dx = 0, intDiv(least(ly, ly + dy), " + sP + "), dy >= 0, intDiv(ly + ql, " + sP + "), "
-      "intDiv(ly - ql - (ml > 0), " + sP + "))) AS j_l, "
-      "toInt64(multiIf(dx = 0, intDiv(greatest(ly, ly + dy), " + sP + "), dy > 0, intDiv(ly + qr, " + sP +
-      ") - (open_r AND mr = 0 AND (ly + qr) % " + sP + " = 0), dy = 0, intDiv(ly, " + sP + "), "
-      "intDiv(ly - qr - (mr > 0), " + sP + "))) AS j_r, "
-      "greatest(least(j_l, j_r), " + sR0 + ") AS r_lo, least(greatest(j_l, j_r), " + sRmax + ") AS r_hi FROM (" + cols + ")";
+      "toInt64(multiIf(dx = 0, intDiv(least(ly, ly + dy), " +
+      sP + "), dy >= 0, intDiv(ly + ql, " + sP +
+      "), "
+      "intDiv(ly - ql - (ml > 0), " +
+      sP +
+      "))) AS j_l, "
+      "toInt64(multiIf(dx = 0, intDiv(greatest(ly, ly + dy), " +
+      sP + "), dy > 0, intDiv(ly + qr, " + sP + ") - (open_r AND mr = 0 AND (ly + qr) % " + sP +
+      " = 0), dy = 0, intDiv(ly, " + sP +
+      "), "
+      "intDiv(ly - qr - (mr > 0), " +
+      sP +
+      "))) AS j_r, "
+      "greatest(least(j_l, j_r), " +
+      sR0 + ") AS r_lo, least(greatest(j_l, j_r), " + sRmax + ") AS r_hi FROM (" + cols + ")";
   const std::string pix =
-      "SELECT cont, pa_c, pa_r, c, r_lo + toInt64(arrayJoin(range(toUInt64(greatest(r_hi - r_lo + 1, 0))))) AS r "
-      "FROM (" + rows + ")";
+      "SELECT cont, pa_c, pa_r, c, r_lo + toInt64(arrayJoin(range(toUInt64(greatest(r_hi - r_lo + 1, 0))))) "
+      "AS r "
+      "FROM (" +
+      rows + ")";
   return "SELECT (r - " + sR0 + ") * " + sS + " + (c - " + sC0 + ") AS pos, count() AS n FROM (" + pix +
          ") WHERE NOT (cont AND c = pa_c AND r = pa_r) GROUP BY pos";
 }

@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
     const Args a(argc, argv);
     const std::string base = a.get("base"), path = a.get("path");
     if (base.empty() || path.empty()) {
-      std::cerr << "usage: http_bench --base URL --path PATH [--label NAME] [--reps N] [--warmup N] [--vary NAME=START]\n";
+      std::cerr << "usage: http_bench --base URL --path PATH [--label NAME] [--reps N] [--warmup N] [--vary "
+                   "NAME=START]\n";
       return 2;
     }
     const int reps = static_cast<int>(a.num("reps", 30)), warmup = static_cast<int>(a.num("warmup", 2));
@@ -36,19 +37,26 @@ int main(int argc, char** argv) {
     for (int i = 0; i < warmup + reps; ++i) {
       std::string target = path;
       if (!vary_name.empty())
-        target += (target.find('?') == std::string::npos ? "?" : "&") + vary_name + "=" + std::to_string(vary_start + i);
+        target += (target.find('?') == std::string::npos ? "?" : "&") + vary_name + "=" +
+                  std::to_string(vary_start + i);
       const auto t0 = Clock::now();
       const HttpResponse r = http.request("GET", target);
       const double t = ms_since(t0);
       status = r.status, bytes = r.body.size();
       if (r.status != 200) {
-        std::cerr << "http_bench: " << target << " answered " << r.status << ": " << r.body.substr(0, 500) << "\n";
+        std::cerr << "http_bench: " << target << " answered " << r.status << ": " << r.body.substr(0, 500)
+                  << "\n";
         return 1;
       }
       if (i >= warmup) ms.push_back(t);
     }
-    json rec = {{"bench", "http"}, {"label", a.get("label", path)}, {"path", path}, {"status", status},
-                {"bytes", bytes}, {"reps", reps}, {"cold", !vary_name.empty()}};
+    json rec = {{"bench", "http"},
+                {"label", a.get("label", path)},
+                {"path", path},
+                {"status", status},
+                {"bytes", bytes},
+                {"reps", reps},
+                {"cold", !vary_name.empty()}};
     Stats::of(ms).put(rec, "ms_");
     emit(rec);
     return 0;

@@ -23,14 +23,22 @@ static int make_csv(const Args& a) {
   const std::string out = a.get("make-csv");
   const auto flights = static_cast<std::size_t>(a.num("flights", 7000));
   double gen_s = 0;
-  const trailscope::TrailSet set = generate_demo(demo_source(a), flights, static_cast<std::uint64_t>(a.num("seed", 42)), &gen_s);
+  const trailscope::TrailSet set =
+      generate_demo(demo_source(a), flights, static_cast<std::uint64_t>(a.num("seed", 42)), &gen_s);
   const bool gz = out.size() > 3 && out.compare(out.size() - 3, 3, ".gz") == 0;
   const auto t0 = Clock::now();
   trailscope::ingest::write_opensky_csv(set, out, gz);
   const double write_s = ms_since(t0) / 1000.0;
-  emit({{"bench", "make_csv"}, {"file", out}, {"gzip", gz}, {"flights", set.num_flights()}, {"rows", set.num_points()},
-        {"bytes", fs::file_size(out)}, {"generate_s", gen_s}, {"write_s", write_s}});
-  log("wrote " + std::to_string(set.num_points()) + " rows to " + out + " in " + std::to_string(write_s) + " s");
+  emit({{"bench", "make_csv"},
+        {"file", out},
+        {"gzip", gz},
+        {"flights", set.num_flights()},
+        {"rows", set.num_points()},
+        {"bytes", fs::file_size(out)},
+        {"generate_s", gen_s},
+        {"write_s", write_s}});
+  log("wrote " + std::to_string(set.num_points()) + " rows to " + out + " in " + std::to_string(write_s) +
+      " s");
   return 0;
 }
 
@@ -50,7 +58,9 @@ static int ingest(const Args& a) {
     trailscope::TrailSet set = trailscope::ingest::ingest_file(path, opts, &rep);
     const auto end = Clock::now();
     total.push_back(ms_between(start, end) / 1000.0);
-    if (seen_assemble) parse.push_back(ms_between(start, parsed) / 1000.0), assemble.push_back(ms_between(parsed, end) / 1000.0);
+    if (seen_assemble)
+      parse.push_back(ms_between(start, parsed) / 1000.0),
+          assemble.push_back(ms_between(parsed, end) / 1000.0);
     log("ingest " + path + " run " + std::to_string(r + 1) + "/" + std::to_string(reps) + ": " +
         std::to_string(rep.rows) + " rows in " + std::to_string(total.back()) + " s");
   }

@@ -29,8 +29,13 @@ int main(int argc, char** argv) {
 
     double gen_s = 0;
     const trailscope::TrailSet set = generate_demo(demo_source(a), flights, seed, &gen_s);
-    emit({{"bench", "dataset"}, {"name", "demo"}, {"flights", set.num_flights()}, {"points", set.num_points()},
-          {"generate_s", gen_s}, {"seed", seed}, {"peak_rss_mib", std::round(peak_rss_mib())}});
+    emit({{"bench", "dataset"},
+          {"name", "demo"},
+          {"flights", set.num_flights()},
+          {"points", set.num_points()},
+          {"generate_s", gen_s},
+          {"seed", seed},
+          {"peak_rss_mib", std::round(peak_rss_mib())}});
     if (set.num_points() < 10'000'000) log("WARNING: fewer than 10 M points; raise --flights");
 
     const long long day = static_cast<long long>(std::floor(set.t_min() / 86400.0)) * 86400;
@@ -38,10 +43,16 @@ int main(int argc, char** argv) {
     const std::vector<Window> windows = {
         {"whole_day", "whole day, no filter", {}},
         {"window_2h", "2-hour window 14:00-16:00 UTC", {{"t0", at(14)}, {"t1", at(16)}}},
-        {"bbox_alt", "bbox -90,35,-70,45 (US north-east) + FL100-FL300, whole day",
+        {"bbox_alt",
+         "bbox -90,35,-70,45 (US north-east) + FL100-FL300, whole day",
          {{"bbox", "-90,35,-70,45"}, {"alt_min", "10000"}, {"alt_max", "30000"}}},
-        {"bbox_alt_2h", "same bbox + band, 14:00-16:00 UTC",
-         {{"bbox", "-90,35,-70,45"}, {"alt_min", "10000"}, {"alt_max", "30000"}, {"t0", at(14)}, {"t1", at(16)}}},
+        {"bbox_alt_2h",
+         "same bbox + band, 14:00-16:00 UTC",
+         {{"bbox", "-90,35,-70,45"},
+          {"alt_min", "10000"},
+          {"alt_max", "30000"},
+          {"t0", at(14)},
+          {"t1", at(16)}}},
     };
 
     std::map<std::string, trailscope::Summary> results;
@@ -59,13 +70,21 @@ int main(int argc, char** argv) {
       const trailscope::Summary& s = results[w.name];
       const Stats st = Stats::of(ms);
       ts_p50[w.name] = st.p50;
-      json rec = {{"bench", "summary"}, {"impl", "trailscope"}, {"window", w.name}, {"label", w.label},
-                  {"params", w.params}, {"dataset_points", set.num_points()}, {"points", s.points},
-                  {"flights", s.flights}, {"time_bins", s.time_histogram.counts.size()},
-                  {"alt_bins", s.altitude_histogram.counts.size()}, {"reps", reps}};
+      json rec = {{"bench", "summary"},
+                  {"impl", "trailscope"},
+                  {"window", w.name},
+                  {"label", w.label},
+                  {"params", w.params},
+                  {"dataset_points", set.num_points()},
+                  {"points", s.points},
+                  {"flights", s.flights},
+                  {"time_bins", s.time_histogram.counts.size()},
+                  {"alt_bins", s.altitude_histogram.counts.size()},
+                  {"reps", reps}};
       st.put(rec, "ms_");
       emit(rec);
-      log("summary " + w.name + ": " + std::to_string(s.points) + " points, p50 " + std::to_string(st.p50) + " ms");
+      log("summary " + w.name + ": " + std::to_string(s.points) + " points, p50 " + std::to_string(st.p50) +
+          " ms");
     }
 
     if (!a.has("clickhouse")) return 0;
@@ -100,7 +119,7 @@ int main(int argc, char** argv) {
           }
           const std::string variant = std::string(l.suffix) + (key ? "+morton" : "");
           json rec = {{"bench", "summary"}, {"impl", "clickhouse"}, {"window", w.name}, {"layout", variant},
-                      {"table", table}, {"reps", ch_reps}, {"sql", sql}};
+                      {"table", table},     {"reps", ch_reps},      {"sql", sql}};
           const Stats sw = Stats::of(wall), ss = Stats::of(server);
           sw.put(rec, "wall_ms_");
           ss.put(rec, "server_ms_");
@@ -113,11 +132,14 @@ int main(int argc, char** argv) {
           best_wall = std::min(best_wall, sw.p50);
         }
       }
-      emit({{"bench", "summary_peer"}, {"window", w.name}, {"label", w.label},
+      emit({{"bench", "summary_peer"},
+            {"window", w.name},
+            {"label", w.label},
             {"trailscope_ms_p50", std::round(ts_p50[w.name] * 1000) / 1000},
             {"clickhouse_server_ms_p50", std::round(best * 1000) / 1000},
             {"clickhouse_wall_ms_p50", std::round(best_wall * 1000) / 1000},
-            {"clickhouse_layout", best_layout}, {"speedup", std::round(best / ts_p50[w.name] * 100) / 100},
+            {"clickhouse_layout", best_layout},
+            {"speedup", std::round(best / ts_p50[w.name] * 100) / 100},
             {"match", all_match}});
     }
     return 0;

@@ -52,7 +52,9 @@ static den::TileRequest request(const TileCase& tc, const DataCase& d, ts::Backe
   return r;
 }
 
-static std::string tile_name(const ts::geo::TileId& t) { return ts::geo::to_string(t); }
+static std::string tile_name(const ts::geo::TileId& t) {
+  return ts::geo::to_string(t);
+}
 
 int main(int argc, char** argv) {
   try {
@@ -66,26 +68,39 @@ int main(int argc, char** argv) {
     std::vector<DataCase> data;
     if (a.has("so6")) {
       ts::ingest::IngestReport rep;
-      DataCase d{"europe", ts::ingest::ingest_file(a.get("so6"), {}, &rep), std::numeric_limits<double>::infinity(), {}};
+      DataCase d{"europe",
+                 ts::ingest::ingest_file(a.get("so6"), {}, &rep),
+                 std::numeric_limits<double>::infinity(),
+                 {}};
       d.tiles = {{{4, 8, 5}, "z4 central Europe (0-22.5E, 41-55.8N)"},
                  {{3, 4, 2}, "z3 north/central Europe (0-45E, 41-66.5N)"},
                  {{4, 7, 5}, "z4 western Europe (22.5W-0, 41-55.8N)"}};
-      emit({{"bench", "dataset"}, {"name", d.name}, {"file", a.get("so6")}, {"flights", d.set.num_flights()},
+      emit({{"bench", "dataset"},
+            {"name", d.name},
+            {"file", a.get("so6")},
+            {"flights", d.set.num_flights()},
             {"points", d.set.num_points()}});
       data.push_back(std::move(d));
     }
     if (a.has("demo-flights")) {
       double gen_s = 0;
-      DataCase d{"demo", generate_demo(demo_source(a), static_cast<std::size_t>(a.num("demo-flights", 14000)),
-                                       static_cast<std::uint64_t>(a.num("seed", 42)), &gen_s),
-                 ts::limits::kFlightGapSeconds, {}};
-      d.tiles = {{{4, 4, 6}, "z4 south-east US (90-67.5W, 22-41N)"}, {{3, 2, 3}, "z3 eastern US (90-45W, 0-41N)"}};
-      emit({{"bench", "dataset"}, {"name", d.name}, {"flights", d.set.num_flights()}, {"points", d.set.num_points()},
+      DataCase d{"demo",
+                 generate_demo(demo_source(a), static_cast<std::size_t>(a.num("demo-flights", 14000)),
+                               static_cast<std::uint64_t>(a.num("seed", 42)), &gen_s),
+                 ts::limits::kFlightGapSeconds,
+                 {}};
+      d.tiles = {{{4, 4, 6}, "z4 south-east US (90-67.5W, 22-41N)"},
+                 {{3, 2, 3}, "z3 eastern US (90-45W, 0-41N)"}};
+      emit({{"bench", "dataset"},
+            {"name", d.name},
+            {"flights", d.set.num_flights()},
+            {"points", d.set.num_points()},
             {"generate_s", gen_s}});
       data.push_back(std::move(d));
     }
     if (data.empty()) {
-      std::cerr << "usage: tile_bench [--so6 PATH] [--demo-flights N] [--reps N] [--clickhouse URL] [--ch-reps N]\n";
+      std::cerr << "usage: tile_bench [--so6 PATH] [--demo-flights N] [--reps N] [--clickhouse URL] "
+                   "[--ch-reps N]\n";
       return 2;
     }
 
@@ -94,8 +109,12 @@ int main(int argc, char** argv) {
     {
       den::DensityRenderer r;
       const auto t0 = Clock::now();
-      const auto res = r.render_tile(data[0].set, data[0].name, all, request(data[0].tiles[0], data[0], ts::Backend::opencl));
-      emit({{"bench", "tile_first_call"}, {"backend", "opencl"}, {"path", res.path}, {"ms", ms_since(t0)},
+      const auto res = r.render_tile(data[0].set, data[0].name, all,
+                                     request(data[0].tiles[0], data[0], ts::Backend::opencl));
+      emit({{"bench", "tile_first_call"},
+            {"backend", "opencl"},
+            {"path", res.path},
+            {"ms", ms_since(t0)},
             {"pocl_cache_dir", std::getenv("POCL_CACHE_DIR") ? std::getenv("POCL_CACHE_DIR") : ""}});
     }
 
@@ -131,13 +150,23 @@ int main(int argc, char** argv) {
             if (!res.span_cached) throw std::runtime_error("span not cached on a repeated request");
           }
           for (const auto& [mode, v] : {std::pair{"cold", &cold}, std::pair{"span_warm", &warm}}) {
-            json rec = {{"bench", "tile"}, {"impl", "trailscope"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)},
-                        {"label", tc.label}, {"size", 256}, {"backend", ts::to_string(b)}, {"path", path},
-                        {"mode", mode}, {"max_count", max_count}, {"png_bytes", png_bytes}, {"reps", reps}};
+            json rec = {{"bench", "tile"},
+                        {"impl", "trailscope"},
+                        {"dataset", d.name},
+                        {"tile", tile_name(tc.tile)},
+                        {"label", tc.label},
+                        {"size", 256},
+                        {"backend", ts::to_string(b)},
+                        {"path", path},
+                        {"mode", mode},
+                        {"max_count", max_count},
+                        {"png_bytes", png_bytes},
+                        {"reps", reps}};
             const Stats s = Stats::of(*v);
             s.put(rec, "ms_");
             emit(rec);
-            log("tile " + key + " " + ts::to_string(b) + " (" + path + ") " + mode + ": p50 " + std::to_string(s.p50) + " ms");
+            log("tile " + key + " " + ts::to_string(b) + " (" + path + ") " + mode + ": p50 " +
+                std::to_string(s.p50) + " ms");
             if (b == ts::Backend::cpu) (std::string(mode) == "cold" ? ts_cold : ts_warm)[key] = s.p50;
           }
         }
@@ -149,11 +178,12 @@ int main(int argc, char** argv) {
           std::size_t segments = 0;
           for (int i = 0; i < reps; ++i) {
             auto t0 = Clock::now();
-            const den::SpanStats span = den::estimate_span(d.set, all, den::DensityValue::count, tc.tile.z, 256, 0,
-                                                           d.max_gap, ts::Backend::cpu);
+            const den::SpanStats span = den::estimate_span(d.set, all, den::DensityValue::count, tc.tile.z,
+                                                           256, 0, d.max_gap, ts::Backend::cpu);
             span_ms.push_back(ms_since(t0));
             t0 = Clock::now();
-            const den::LineSegments segs = den::prepare_line_segments(d.set, all, canvas, den::DensityValue::count, d.max_gap);
+            const den::LineSegments segs =
+                den::prepare_line_segments(d.set, all, canvas, den::DensityValue::count, d.max_gap);
             prep_ms.push_back(ms_since(t0));
             segments = segs.size();
             t0 = Clock::now();
@@ -162,7 +192,8 @@ int main(int argc, char** argv) {
             t0 = Clock::now();
             const den::Aggregate agg2 = den::density_lines(segs, ts::Backend::opencl);
             lines_ocl_ms.push_back(ms_since(t0));
-            if (!agg.same_numbers(agg2)) throw std::runtime_error("OpenCL and CPU aggregates differ on " + key);
+            if (!agg.same_numbers(agg2))
+              throw std::runtime_error("OpenCL and CPU aggregates differ on " + key);
             t0 = Clock::now();
             den::ShadeOptions so;
             const den::Image img = den::shade(den::to_raster(agg, den::DensityValue::count), span, so);
@@ -171,7 +202,11 @@ int main(int argc, char** argv) {
             const std::string png = den::encode_png(img);
             png_ms.push_back(ms_since(t0));
           }
-          json rec = {{"bench", "tile_stages"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)}, {"segments", segments}, {"reps", reps}};
+          json rec = {{"bench", "tile_stages"},
+                      {"dataset", d.name},
+                      {"tile", tile_name(tc.tile)},
+                      {"segments", segments},
+                      {"reps", reps}};
           rec["span_estimate_ms_p50"] = Stats::of(span_ms).p50;
           rec["prepare_segments_ms_p50"] = Stats::of(prep_ms).p50;
           rec["density_lines_cpu_ms_p50"] = Stats::of(lines_cpu_ms).p50;
@@ -209,30 +244,43 @@ int main(int argc, char** argv) {
           std::vector<std::string> diff;
           for (int i = -1; i < ch_reps; ++i) {
             const auto r = ch.query(sql);
-            if (i < 0) diff = compare_tile(ref, r.result);
-            else wall.push_back(r.wall_ms), server.push_back(r.server_ms);
+            if (i < 0)
+              diff = compare_tile(ref, r.result);
+            else
+              wall.push_back(r.wall_ms), server.push_back(r.server_ms);
           }
-          json rec = {{"bench", "tile"}, {"impl", "clickhouse"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)},
-                      {"layout", l.suffix}, {"table", table}, {"points_in_tile", in_tile}, {"pixels", nonzero},
-                      {"reps", ch_reps}, {"sql", sql}};
+          json rec = {{"bench", "tile"},           {"impl", "clickhouse"},
+                      {"dataset", d.name},         {"tile", tile_name(tc.tile)},
+                      {"layout", l.suffix},        {"table", table},
+                      {"points_in_tile", in_tile}, {"pixels", nonzero},
+                      {"reps", ch_reps},           {"sql", sql}};
           const Stats sw = Stats::of(wall), ss = Stats::of(server);
           sw.put(rec, "wall_ms_");
           ss.put(rec, "server_ms_");
           report_match(rec, diff, "tile " + key + " on " + l.suffix);
           all_match = all_match && diff.empty();
           emit(rec);
-          log("clickhouse tile " + key + " " + l.suffix + ": server p50 " + std::to_string(ss.p50) + " ms, wall p50 " +
-              std::to_string(sw.p50) + " ms" + (diff.empty() ? "" : "  MISMATCH"));
+          log("clickhouse tile " + key + " " + l.suffix + ": server p50 " + std::to_string(ss.p50) +
+              " ms, wall p50 " + std::to_string(sw.p50) + " ms" + (diff.empty() ? "" : "  MISMATCH"));
           if (ss.p50 < best) best = ss.p50, best_layout = l.suffix;
           best_wall = std::min(best_wall, sw.p50);
         }
-        emit({{"bench", "tile_peer"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)}, {"label", tc.label},
-              {"points_in_tile", in_tile}, {"point_pixels", nonzero}, {"bench_point_raster_ms", ref_ms},
-              {"trailscope_cold_ms_p50", ts_cold[key]}, {"trailscope_span_warm_ms_p50", ts_warm[key]},
+        emit({{"bench", "tile_peer"},
+              {"dataset", d.name},
+              {"tile", tile_name(tc.tile)},
+              {"label", tc.label},
+              {"points_in_tile", in_tile},
+              {"point_pixels", nonzero},
+              {"bench_point_raster_ms", ref_ms},
+              {"trailscope_cold_ms_p50", ts_cold[key]},
+              {"trailscope_span_warm_ms_p50", ts_warm[key]},
               {"trailscope_count_only_ms_p50", ts_agg[key]},
-              {"clickhouse_server_ms_p50", best}, {"clickhouse_wall_ms_p50", best_wall},
-              {"clickhouse_layout", best_layout}, {"speedup_cold", std::round(best / ts_cold[key] * 100) / 100},
-              {"speedup_span_warm", std::round(best / ts_warm[key] * 100) / 100}, {"match", all_match}});
+              {"clickhouse_server_ms_p50", best},
+              {"clickhouse_wall_ms_p50", best_wall},
+              {"clickhouse_layout", best_layout},
+              {"speedup_cold", std::round(best / ts_cold[key] * 100) / 100},
+              {"speedup_span_warm", std::round(best / ts_warm[key] * 100) / 100},
+              {"match", all_match}});
 
         // The LINE-density tile in ClickHouse (peer_line_tile_sql over the segment table), checked pixel
         // for pixel against TrailScope's count aggregate of the same tile (density_lines_ref).
@@ -253,12 +301,21 @@ int main(int argc, char** argv) {
           std::vector<std::string> diff;
           for (int i = -1; i < ch_reps; ++i) {
             const auto r = ch.query(sql);
-            if (i < 0) diff = compare_tile(line_ref, r.result);
-            else wall.push_back(r.wall_ms), server.push_back(r.server_ms);
+            if (i < 0)
+              diff = compare_tile(line_ref, r.result);
+            else
+              wall.push_back(r.wall_ms), server.push_back(r.server_ms);
           }
-          json rec = {{"bench", "tile"}, {"impl", "clickhouse_lines"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)},
-                      {"layout", l.suffix}, {"table", table}, {"segment_pixels", line_total}, {"pixels", line_nonzero},
-                      {"reps", ch_reps}, {"sql", sql}};
+          json rec = {{"bench", "tile"},
+                      {"impl", "clickhouse_lines"},
+                      {"dataset", d.name},
+                      {"tile", tile_name(tc.tile)},
+                      {"layout", l.suffix},
+                      {"table", table},
+                      {"segment_pixels", line_total},
+                      {"pixels", line_nonzero},
+                      {"reps", ch_reps},
+                      {"sql", sql}};
           const Stats sw = Stats::of(wall), ss = Stats::of(server);
           sw.put(rec, "wall_ms_");
           ss.put(rec, "server_ms_");
@@ -266,19 +323,28 @@ int main(int argc, char** argv) {
           if (!diff.empty()) ldiff_any = diff;
           lall_match = lall_match && diff.empty();
           emit(rec);
-          log("clickhouse line tile " + key + " " + l.suffix + ": server p50 " + std::to_string(ss.p50) + " ms, wall p50 " +
-              std::to_string(sw.p50) + " ms" + (diff.empty() ? "  (counts identical)" : "  MISMATCH"));
+          log("clickhouse line tile " + key + " " + l.suffix + ": server p50 " + std::to_string(ss.p50) +
+              " ms, wall p50 " + std::to_string(sw.p50) + " ms" +
+              (diff.empty() ? "  (counts identical)" : "  MISMATCH"));
           if (ss.p50 < lbest) lbest = ss.p50, lbest_layout = l.suffix;
           lbest_wall = std::min(lbest_wall, sw.p50);
         }
-        json lp = {{"bench", "tile_peer_lines"}, {"dataset", d.name}, {"tile", tile_name(tc.tile)}, {"label", tc.label},
-                   {"segment_pixels", line_total}, {"pixels", line_nonzero},
-                   {"trailscope_cold_ms_p50", ts_cold[key]}, {"trailscope_span_warm_ms_p50", ts_warm[key]},
+        json lp = {{"bench", "tile_peer_lines"},
+                   {"dataset", d.name},
+                   {"tile", tile_name(tc.tile)},
+                   {"label", tc.label},
+                   {"segment_pixels", line_total},
+                   {"pixels", line_nonzero},
+                   {"trailscope_cold_ms_p50", ts_cold[key]},
+                   {"trailscope_span_warm_ms_p50", ts_warm[key]},
                    {"trailscope_count_only_ms_p50", ts_agg[key]},
-                   {"clickhouse_server_ms_p50", lbest}, {"clickhouse_wall_ms_p50", lbest_wall},
-                   {"clickhouse_layout", lbest_layout}, {"speedup_cold", std::round(lbest / ts_cold[key] * 100) / 100},
+                   {"clickhouse_server_ms_p50", lbest},
+                   {"clickhouse_wall_ms_p50", lbest_wall},
+                   {"clickhouse_layout", lbest_layout},
+                   {"speedup_cold", std::round(lbest / ts_cold[key] * 100) / 100},
                    {"speedup_span_warm", std::round(lbest / ts_warm[key] * 100) / 100},
-                   {"speedup_count_only", std::round(lbest / ts_agg[key] * 100) / 100}, {"match", lall_match}};
+                   {"speedup_count_only", std::round(lbest / ts_agg[key] * 100) / 100},
+                   {"match", lall_match}};
         if (!ldiff_any.empty()) lp["mismatch"] = ldiff_any;
         emit(lp);
       }

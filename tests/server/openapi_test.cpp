@@ -27,7 +27,8 @@ TEST(OpenApi, ListsEveryRouteOfTheRouter) {
   const std::regex path_re(R"(^  (/[^:]*):\s*$)"), method_re(R"(^    (get|post|put|delete|patch):)");
   for (const auto& l : openapi_lines()) {
     std::smatch m;
-    if (std::regex_match(l, m, path_re)) path = m[1];
+    if (std::regex_match(l, m, path_re))
+      path = m[1];
     else if (std::regex_search(l, m, method_re)) {
       std::string method = m[1];
       for (char& c : method) c = static_cast<char>(std::toupper(c));
@@ -52,15 +53,24 @@ TEST(OpenApi, QuotesEveryLimit) {
   }
   namespace L = limits;
   const std::map<std::string, double> actual = {
-      {"kMaxUploadBytes", double(L::kMaxUploadBytes)}, {"kMaxRequestBodyBytes", double(L::kMaxRequestBodyBytes)},
-      {"kRequestTimeoutSeconds", L::kRequestTimeoutSeconds}, {"kUploadTimeoutSeconds", L::kUploadTimeoutSeconds},
+      {"kMaxUploadBytes", double(L::kMaxUploadBytes)},
+      {"kMaxRequestBodyBytes", double(L::kMaxRequestBodyBytes)},
+      {"kRequestTimeoutSeconds", L::kRequestTimeoutSeconds},
+      {"kUploadTimeoutSeconds", L::kUploadTimeoutSeconds},
       {"kMaxWebSocketMessageBytes", double(L::kMaxWebSocketMessageBytes)},
-      {"kMaxQuerySpanSeconds", L::kMaxQuerySpanSeconds}, {"kMaxIcao24PerQuery", double(L::kMaxIcao24PerQuery)},
-      {"kMaxCallsignPatternLength", double(L::kMaxCallsignPatternLength)}, {"kMaxPageSize", double(L::kMaxPageSize)},
-      {"kDefaultPageSize", double(L::kDefaultPageSize)}, {"kMaxPointsPerResponse", double(L::kMaxPointsPerResponse)},
-      {"kMaxHistogramBins", L::kMaxHistogramBins}, {"kMaxTopCallsigns", L::kMaxTopCallsigns},
-      {"kMinZoom", L::kMinZoom}, {"kMaxZoom", L::kMaxZoom}, {"kMaxKernelRadiusPx", L::kMaxKernelRadiusPx},
-      {"kTileCacheBytes", double(L::kTileCacheBytes)}, {"kFlightGapSeconds", L::kFlightGapSeconds},
+      {"kMaxQuerySpanSeconds", L::kMaxQuerySpanSeconds},
+      {"kMaxIcao24PerQuery", double(L::kMaxIcao24PerQuery)},
+      {"kMaxCallsignPatternLength", double(L::kMaxCallsignPatternLength)},
+      {"kMaxPageSize", double(L::kMaxPageSize)},
+      {"kDefaultPageSize", double(L::kDefaultPageSize)},
+      {"kMaxPointsPerResponse", double(L::kMaxPointsPerResponse)},
+      {"kMaxHistogramBins", L::kMaxHistogramBins},
+      {"kMaxTopCallsigns", L::kMaxTopCallsigns},
+      {"kMinZoom", L::kMinZoom},
+      {"kMaxZoom", L::kMaxZoom},
+      {"kMaxKernelRadiusPx", L::kMaxKernelRadiusPx},
+      {"kTileCacheBytes", double(L::kTileCacheBytes)},
+      {"kFlightGapSeconds", L::kFlightGapSeconds},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

@@ -74,7 +74,8 @@ TEST_F(RoutesTest, HealthAndDatasets) {
 
 TEST_F(RoutesTest, SummaryMatchesFilters) {
   // 00:10 ≤ t < 00:20 and below 5000 ft: only KLM1 (alt i·100 m ≤ 1524 m → i ≤ 15), samples 10..15.
-  auto r = get("/api/v1/datasets/nl/summary", {{"t0", "2018-01-01T00:10:00Z"}, {"t1", "1514766000"}, {"alt_max", "5000"}});
+  auto r = get("/api/v1/datasets/nl/summary",
+               {{"t0", "2018-01-01T00:10:00Z"}, {"t1", "1514766000"}, {"alt_max", "5000"}});
   ASSERT_EQ(r.status, 200) << r.body;
   const auto j = body(r);
   EXPECT_EQ(j["flights"], 1);
@@ -103,11 +104,13 @@ TEST_F(RoutesTest, FlightsAndGeoJson) {
 TEST_F(RoutesTest, ErrorsNameTheParameter) {
   expect_error(get("/api/v1/datasets/nope"), 404, "not_found", "dataset");
   expect_error(get("/api/v1/datasets/nl/summary", {{"t0", "soon"}}), 400, "invalid_argument", "t0");
-  expect_error(get("/api/v1/datasets/nl/summary", {{"t0", "10"}, {"t1", "5"}}), 400, "invalid_argument", "t1");
+  expect_error(get("/api/v1/datasets/nl/summary", {{"t0", "10"}, {"t1", "5"}}), 400, "invalid_argument",
+               "t1");
   expect_error(get("/api/v1/datasets/nl/summary", {{"bbox", "1,2,3"}}), 400, "invalid_argument", "bbox");
   expect_error(get("/api/v1/datasets/nl/summary", {{"t_0", "10"}}), 400, "invalid_argument", "t_0");
   expect_error(get("/api/v1/datasets/nl/summary", {{"bins", "0"}}), 400, "invalid_argument", "bins");
-  expect_error(get("/api/v1/datasets/nl/flights", {{"page_size", "1001"}}), 400, "invalid_argument", "page_size");
+  expect_error(get("/api/v1/datasets/nl/flights", {{"page_size", "1001"}}), 400, "invalid_argument",
+               "page_size");
   expect_error(get("/api/v1/datasets/nl/flights/99"), 404, "not_found", "flight_id");
   expect_error(get("/api/v1/datasets/nl/flights/x1"), 400, "invalid_argument", "flight_id");
   expect_error(get("/api/v1/jobs/j999"), 404, "not_found", "job");
@@ -122,7 +125,8 @@ TEST_F(RoutesTest, UploadRunsAnIngestJob) {
   Request r;
   r.method = "POST", r.path = "/api/v1/datasets", r.query = {{"name", "up"}};
   r.body =
-      "time,icao24,lat,lon,velocity,heading,vertrate,callsign,onground,alert,spi,squawk,baroaltitude,geoaltitude,"
+      "time,icao24,lat,lon,velocity,heading,vertrate,callsign,onground,alert,spi,squawk,baroaltitude,"
+      "geoaltitude,"
       "lastposupdate,lastcontact\n"
       "1514764800,4ca1d0,52.3,4.76,100,90,0,KLM1,false,false,false,1000,1000,1010,1514764800,1514764800\n"
       "1514764810,4ca1d0,52.3,4.78,100,90,0,KLM1,false,false,false,1000,1000,1010,1514764810,1514764810\n"

@@ -19,7 +19,8 @@ class TilesTest : public ::testing::Test {
     // A flight from Amsterdam towards Frankfurt, one sample a minute.
     for (int i = 0; i <= 60; ++i) {
       Sample s;
-      s.t = 1514764800.0 + i * 60, s.lat = 52.3f - i * 0.035f, s.lon = 4.76f + i * 0.06f, s.alt = 10000, s.speed = 220;
+      s.t = 1514764800.0 + i * 60, s.lat = 52.3f - i * 0.035f, s.lon = 4.76f + i * 0.06f, s.alt = 10000,
+      s.speed = 220;
       b.add("4ca1d0", "KLM1", s);
     }
     auto ds = std::make_shared<Dataset>();
@@ -75,9 +76,12 @@ TEST_F(TilesTest, PngWithEtagAndCache) {
   EXPECT_TRUE(not_modified.bytes().empty());
   EXPECT_EQ(header(not_modified, "ETag"), etag);
   // Any input that changes the bytes changes the ETag.
-  for (const auto& q : std::vector<std::map<std::string, std::string>>{
-           {{"cmap", "viridis"}}, {{"how", "log"}}, {{"value", "altitude"}}, {{"size", "512"}}, {{"kernel", "2"}},
-           {{"t0", "1514765000"}}}) {
+  for (const auto& q : std::vector<std::map<std::string, std::string>>{{{"cmap", "viridis"}},
+                                                                       {{"how", "log"}},
+                                                                       {{"value", "altitude"}},
+                                                                       {{"size", "512"}},
+                                                                       {{"kernel", "2"}},
+                                                                       {{"t0", "1514765000"}}}) {
     const Response other = get(kTile, q);
     ASSERT_EQ(other.status, 200) << q.begin()->first << ": " << other.body;
     EXPECT_NE(header(other, "ETag"), etag) << q.begin()->first;

@@ -12,9 +12,15 @@ static fs::path env_path(const char* name, const char* fallback) {
   return fs::path(v && *v ? v : fallback);
 }
 
-fs::path shared_dir() { return env_path("TRAILSCOPE_SHARED", TRAILSCOPE_SHARED_DEFAULT); }
-fs::path shared_data(const std::string& relative) { return shared_dir() / "data" / relative; }
-fs::path source_dir() { return env_path("TRAILSCOPE_SOURCE", TRAILSCOPE_SOURCE_DIR); }
+fs::path shared_dir() {
+  return env_path("TRAILSCOPE_SHARED", TRAILSCOPE_SHARED_DEFAULT);
+}
+fs::path shared_data(const std::string& relative) {
+  return shared_dir() / "data" / relative;
+}
+fs::path source_dir() {
+  return env_path("TRAILSCOPE_SOURCE", TRAILSCOPE_SOURCE_DIR);
+}
 
 TempDir::TempDir() {
   std::random_device rd;

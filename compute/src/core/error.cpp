@@ -4,15 +4,24 @@ namespace trailscope {
 
 const char* to_string(Error::Kind kind) noexcept {
   switch (kind) {
-    case Error::Kind::invalid_argument: return "invalid_argument";
-    case Error::Kind::not_found: return "not_found";
-    case Error::Kind::conflict: return "conflict";
-    case Error::Kind::payload_too_large: return "payload_too_large";
-    case Error::Kind::unsupported_format: return "unsupported_format";
-    case Error::Kind::unprocessable: return "unprocessable";
-    case Error::Kind::cancelled: return "cancelled";
-    case Error::Kind::backend: return "backend_unavailable";
-    case Error::Kind::internal: return "internal";
+    case Error::Kind::invalid_argument:
+      return "invalid_argument";
+    case Error::Kind::not_found:
+      return "not_found";
+    case Error::Kind::conflict:
+      return "conflict";
+    case Error::Kind::payload_too_large:
+      return "payload_too_large";
+    case Error::Kind::unsupported_format:
+      return "unsupported_format";
+    case Error::Kind::unprocessable:
+      return "unprocessable";
+    case Error::Kind::cancelled:
+      return "cancelled";
+    case Error::Kind::backend:
+      return "backend_unavailable";
+    case Error::Kind::internal:
+      return "internal";
   }
   return "internal";
 }

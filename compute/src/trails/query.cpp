@@ -104,7 +104,8 @@ bool Query::may_match(const Flight& f) const {
 std::string Query::canonical() const {
   std::ostringstream o;
   o.precision(17);
-  if (bbox) o << "bbox=" << bbox->west << ',' << bbox->south << ',' << bbox->east << ',' << bbox->north << '&';
+  if (bbox)
+    o << "bbox=" << bbox->west << ',' << bbox->south << ',' << bbox->east << ',' << bbox->north << '&';
   if (t0) o << "t0=" << *t0 << '&';
   if (t1) o << "t1=" << *t1 << '&';
   if (alt_min) o << "alt_min_m=" << *alt_min << '&';
@@ -174,7 +175,8 @@ Query parse_query(const std::map<std::string, std::string>& params) {
     const auto parts = split(*v, ',');
     if (parts.size() != 4)
       throw invalid_argument("bbox", "bbox: expected west,south,east,north in degrees, got '" + *v + "'");
-    BBox b{number(parts[0], "bbox"), number(parts[1], "bbox"), number(parts[2], "bbox"), number(parts[3], "bbox")};
+    BBox b{number(parts[0], "bbox"), number(parts[1], "bbox"), number(parts[2], "bbox"),
+           number(parts[3], "bbox")};
     if (b.west < -180 || b.west > 180 || b.east < -180 || b.east > 180)
       throw invalid_argument("bbox", "bbox: west and east must lie in [-180, 180]");
     if (b.south < -90 || b.north > 90 || b.south >= b.north)
@@ -190,8 +192,10 @@ Query parse_query(const std::map<std::string, std::string>& params) {
   }
   double unit = kFeetToMetres;
   if (auto* v = get("alt_unit")) {
-    if (*v == "m") unit = 1.0;
-    else if (*v != "ft") throw invalid_argument("alt_unit", "alt_unit must be 'ft' or 'm', got '" + *v + "'");
+    if (*v == "m")
+      unit = 1.0;
+    else if (*v != "ft")
+      throw invalid_argument("alt_unit", "alt_unit must be 'ft' or 'm', got '" + *v + "'");
   }
   if (auto* v = get("alt_min")) q.alt_min = number(*v, "alt_min") * unit;
   if (auto* v = get("alt_max")) q.alt_max = number(*v, "alt_max") * unit;
@@ -222,9 +226,12 @@ Query parse_query(const std::map<std::string, std::string>& params) {
     q.callsign = c;
   }
   if (auto* v = get("on_ground")) {
-    if (*v == "true" || *v == "1") q.on_ground = true;
-    else if (*v == "false" || *v == "0") q.on_ground = false;
-    else throw invalid_argument("on_ground", "on_ground must be true or false, got '" + *v + "'");
+    if (*v == "true" || *v == "1")
+      q.on_ground = true;
+    else if (*v == "false" || *v == "0")
+      q.on_ground = false;
+    else
+      throw invalid_argument("on_ground", "on_ground must be true or false, got '" + *v + "'");
   }
   return q;
 }

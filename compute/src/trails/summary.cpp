@@ -18,15 +18,15 @@ namespace trailscope {
 
 namespace {
 constexpr double kFeet = 0.3048;
-constexpr double kSpeedBin = 0.25;  // m/s; percentiles are read from this histogram
-constexpr int kSpeedBins = 2400;    // up to 600 m/s; faster samples land in the last bin
+constexpr double kSpeedBin = 0.25;      // m/s; percentiles are read from this histogram
+constexpr int kSpeedBins = 2400;        // up to 600 m/s; faster samples land in the last bin
 constexpr double kAltEdgeNudge = 1e-4;  // of an altitude bin
 
 // Smallest "nice" bin width (seconds) giving at most `bins` bins over `span`.
 double nice_bin_seconds(double span, int bins) {
-  static constexpr std::array<double, 22> steps = {1,    2,    5,     10,    15,    30,    60,    120,
-                                                   300,  600,  900,   1800,  3600,  7200,  10800, 21600,
-                                                   43200, 86400, 172800, 604800, 1209600, 2592000};
+  static constexpr std::array<double, 22> steps = {
+      1,    2,    5,    10,    15,    30,    60,    120,    300,    600,     900,
+      1800, 3600, 7200, 10800, 21600, 43200, 86400, 172800, 604800, 1209600, 2592000};
   const double want = span / bins;
   for (double s : steps)
     if (s >= want) return s;
@@ -63,7 +63,9 @@ double percentile(const std::vector<std::uint64_t>& h, std::uint64_t n, double q
   return h.size() * kSpeedBin;
 }
 
-const char* unit_name(AltUnit u) { return u == AltUnit::ft ? "ft" : "m"; }
+const char* unit_name(AltUnit u) {
+  return u == AltUnit::ft ? "ft" : "m";
+}
 }  // namespace
 
 Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
@@ -79,7 +81,8 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
   const double lo = q.t0.value_or(set.t_min()), hi = q.t1.value_or(std::nextafter(set.t_max(), INFINITY));
   const double bin = nice_bin_seconds(std::max(hi - lo, 1.0), opts.bins);
   const double t_origin = std::floor(lo / bin) * bin;
-  const std::size_t time_bins = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil((hi - t_origin) / bin)));
+  const std::size_t time_bins =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil((hi - t_origin) / bin)));
   const double alt_unit = opts.alt_unit == AltUnit::ft ? kFeet : 1.0;
   const double alt_bin_w = opts.alt_unit == AltUnit::ft ? 1000.0 : 300.0;
   // Altitude bins from 0 to the top of the data (at least one bin); negative altitudes go to bin 0.
@@ -134,7 +137,9 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
     if (n) {
       acc.t_min = std::min(acc.t_min, first), acc.t_max = std::max(acc.t_max, last);
       acc.speed_n += vn, acc.speed_sum += vsum;
-      if (vn) acc.speed_min = std::min<double>(acc.speed_min, vmin), acc.speed_max = std::max<double>(acc.speed_max, vmax);
+      if (vn)
+        acc.speed_min = std::min<double>(acc.speed_min, vmin),
+        acc.speed_max = std::max<double>(acc.speed_max, vmax);
     }
     return n;
   };
@@ -145,8 +150,8 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
         for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
           const Flight& f = flights[fi];
           if (!q.may_match(f)) continue;
-          const std::uint32_t n =
-              filter.contains(f) ? scan.template operator()<true>(f, acc) : scan.template operator()<false>(f, acc);
+          const std::uint32_t n = filter.contains(f) ? scan.template operator()<true>(f, acc)
+                                                     : scan.template operator()<false>(f, acc);
           matched[fi] = n;
           acc.points += n;
         }
@@ -194,14 +199,17 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
 
 nlohmann::json Summary::to_json() const {
   nlohmann::json top = nlohmann::json::array();
-  for (const auto& c : top_callsigns) top.push_back({{"callsign", c.callsign}, {"flights", c.flights}, {"points", c.points}});
+  for (const auto& c : top_callsigns)
+    top.push_back({{"callsign", c.callsign}, {"flights", c.flights}, {"points", c.points}});
   return {
       {"flights", flights},
       {"points", points},
       {"t_min", points ? nlohmann::json(t_min) : nlohmann::json()},
       {"t_max", points ? nlohmann::json(t_max) : nlohmann::json()},
       {"time_histogram",
-       {{"t0", time_histogram.t0}, {"bin_seconds", time_histogram.bin_seconds}, {"counts", time_histogram.counts}}},
+       {{"t0", time_histogram.t0},
+        {"bin_seconds", time_histogram.bin_seconds},
+        {"counts", time_histogram.counts}}},
       {"altitude_histogram",
        {{"unit", unit_name(altitude_histogram.unit)},
         {"bin_width", altitude_histogram.bin_width},
@@ -284,8 +292,8 @@ nlohmann::json flight_geojson(const TrailSet& set, std::size_t flight_id, const 
     if (!clip || q.matches_point(p, i)) keep.push_back(i);
   if (keep.size() > max_points)
     throw Error(Error::Kind::payload_too_large, "max_points",
-                "flight has " + std::to_string(keep.size()) + " points, more than max_points=" +
-                    std::to_string(max_points));
+                "flight has " + std::to_string(keep.size()) +
+                    " points, more than max_points=" + std::to_string(max_points));
   const auto num = [](float v) { return v == v ? nlohmann::json(v) : nlohmann::json(); };
   nlohmann::json coords = nlohmann::json::array(), times = nlohmann::json::array(),
                  alts = nlohmann::json::array(), speeds = nlohmann::json::array();

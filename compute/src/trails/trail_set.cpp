@@ -20,7 +20,6 @@ void PointColumns::resize(std::size_t n) {
   speed.resize(n), track.resize(n), vrate.resize(n), on_ground.resize(n);
 }
 
-
 void compute_extents(Flight& f, const PointColumns& p) {
   constexpr float inf = std::numeric_limits<float>::infinity();
   f.t_min = f.begin < f.end ? p.t[f.begin] : 0, f.t_max = f.begin < f.end ? p.t[f.end - 1] : 0;

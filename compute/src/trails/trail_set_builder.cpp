@@ -74,7 +74,8 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds) {
   pieces.reserve(groups_.size());
   for (auto& [key, samples] : groups_) {
     // Stable sort keeps the first of equal-time samples, which is the one kept below.
-    std::stable_sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) { return a.t < b.t; });
+    std::stable_sort(samples.begin(), samples.end(),
+                     [](const Sample& a, const Sample& b) { return a.t < b.t; });
     std::size_t w = 0;
     for (std::size_t r = 0; r < samples.size(); ++r) {
       if (w > 0 && samples[r].t == samples[w - 1].t) {
@@ -101,7 +102,8 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds) {
   cols.reserve(samples_ - local.duplicates);
   std::vector<Flight> flights;
   flights.reserve(pieces.size());
-  for (const Piece& p : pieces) append_flight(p.key->icao24, p.key->callsign, *p.samples, p.b, p.e, cols, flights);
+  for (const Piece& p : pieces)
+    append_flight(p.key->icao24, p.key->callsign, *p.samples, p.b, p.e, cols, flights);
   groups_.clear();
   samples_ = 0;
   if (stats) *stats = local;

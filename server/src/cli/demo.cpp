@@ -58,7 +58,9 @@ void add_demo(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   cmd->add_option("--data-dir", o->data_dir, "store folder")->capture_default_str();
   cmd->add_option("--name", o->name, "dataset id")->capture_default_str();
-  cmd->add_option("--flights", o->flights, "number of flights")->capture_default_str()->check(CLI::Range(1, 10000000));
+  cmd->add_option("--flights", o->flights, "number of flights")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000));
   cmd->add_option("--seed", o->seed, "random seed (same seed, same data)")->capture_default_str();
   cmd->add_option("--demo-source", o->source, "folder with airports.csv and flights-airport.csv");
   cmd->add_option("--csv", o->csv, "write an OpenSky state-vector CSV (.csv or .csv.gz) instead of storing");

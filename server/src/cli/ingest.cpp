@@ -9,7 +9,9 @@
 namespace trailscope::cli {
 
 void add_ingest(CLI::App& app) {
-  auto* cmd = app.add_subcommand("ingest", "Ingest an ADS-B file (OpenSky CSV, traffic JSON, SO6, readsb trace; plain or gzip) as a dataset");
+  auto* cmd = app.add_subcommand(
+      "ingest",
+      "Ingest an ADS-B file (OpenSky CSV, traffic JSON, SO6, readsb trace; plain or gzip) as a dataset");
   struct Opts {
     std::string file, data_dir = default_data_dir(), name, format;
     bool json = false, quiet = false;
@@ -18,7 +20,8 @@ void add_ingest(CLI::App& app) {
   cmd->add_option("FILE", o->file, "input file")->required();
   cmd->add_option("--data-dir", o->data_dir, "store folder")->capture_default_str();
   cmd->add_option("--name", o->name, "dataset id (default: derived from the file name)");
-  cmd->add_option("--format", o->format, "opensky_csv | traffic_json | so6 | readsb_trace (default: detected)");
+  cmd->add_option("--format", o->format,
+                  "opensky_csv | traffic_json | so6 | readsb_trace (default: detected)");
   cmd->add_flag("--json", o->json, "print the dataset and its ingest report as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->callback([o] {

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "store/dataset_ingest.hpp"
 #include "store/embedded_store.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/trails/summary.hpp"
@@ -10,22 +11,15 @@
 namespace trailscope::cli {
 
 namespace {
-std::string iso(double t) {
-  const std::time_t s = static_cast<std::time_t>(t);
-  std::tm tm{};
-  gmtime_r(&s, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
+using server::iso_utc;
 
 void print_summary(const Summary& s) {
   std::printf("flights  %llu\npoints   %llu\n", static_cast<unsigned long long>(s.flights),
               static_cast<unsigned long long>(s.points));
-  if (s.points) std::printf("window   %s .. %s\n", iso(s.t_min).c_str(), iso(s.t_max).c_str());
+  if (s.points) std::printf("window   %s .. %s\n", iso_utc(s.t_min).c_str(), iso_utc(s.t_max).c_str());
   if (s.speed.count)
-    std::printf("speed    mean %.1f m/s, p50 %.1f, p95 %.1f, max %.1f\n", s.speed.mean, s.speed.p50, s.speed.p95,
-                s.speed.max);
+    std::printf("speed    mean %.1f m/s, p50 %.1f, p95 %.1f, max %.1f\n", s.speed.mean, s.speed.p50,
+                s.speed.p95, s.speed.max);
   if (!s.top_callsigns.empty()) {
     std::printf("top callsigns (points, flights):\n");
     for (const auto& c : s.top_callsigns)
@@ -63,8 +57,10 @@ void add_query(CLI::App& app) {
     opts.bins = o->bins, opts.top_callsigns = o->top;
     if (o->flags.params.count("alt_unit") && o->flags.params["alt_unit"] == "m") opts.alt_unit = AltUnit::m;
     const Summary s = summarize(*ds->trails, parse_query(o->flags.params), opts);
-    if (o->json) std::cout << s.to_json().dump(2) << std::endl;
-    else print_summary(s);
+    if (o->json)
+      std::cout << s.to_json().dump(2) << std::endl;
+    else
+      print_summary(s);
   });
   auto* flights = cmd->add_subcommand("flights", "The flights in the window, a page at a time");
   common(flights);
@@ -81,7 +77,8 @@ void add_query(CLI::App& app) {
     std::printf("%llu flights; page %zu:\n", static_cast<unsigned long long>(p.total), p.page);
     for (const auto& f : p.flights)
       std::printf("%8u %-6s %-9s %s .. %s %7llu pts\n", f.id, f.icao24.c_str(), f.callsign.c_str(),
-                  iso(f.t_start).c_str(), iso(f.t_end).c_str(), static_cast<unsigned long long>(f.points));
+                  iso_utc(f.t_start).c_str(), iso_utc(f.t_end).c_str(),
+                  static_cast<unsigned long long>(f.points));
   });
   auto* flight = cmd->add_subcommand("flight", "One flight as GeoJSON");
   common(flight);

@@ -29,12 +29,14 @@ void add_serve(CLI::App& app) {
   cmd->add_option("--host", o->host, "address to listen on")->capture_default_str();
   cmd->add_option("--port", o->port, "port to listen on (0 = any free port)")->capture_default_str();
   cmd->add_option("--threads", o->threads, "I/O threads")->capture_default_str()->check(CLI::Range(1u, 64u));
-  cmd->add_option("--web-root", o->web_root, "folder of the built browser app (web/dist)")->capture_default_str();
+  cmd->add_option("--web-root", o->web_root, "folder of the built browser app (web/dist)")
+      ->capture_default_str();
   cmd->add_option("--backend", o->backend, "compute backend: cpu | opencl | auto");
   cmd->add_flag("--demo", o->demo, "create the generated demo dataset 'demo' first if it is absent");
   cmd->add_option("--demo-flights", o->demo_flights, "flights in the demo dataset")->capture_default_str();
   cmd->add_option("--demo-source", o->demo_source,
-                  "folder with vega-datasets' airports.csv and flights-airport.csv (default: web/node_modules/vega-datasets/data)");
+                  "folder with vega-datasets' airports.csv and flights-airport.csv (default: "
+                  "web/node_modules/vega-datasets/data)");
   cmd->callback([o] {
     if (!o->backend.empty()) set_default_backend(parse_backend(o->backend, "--backend"));
     // Compile the kernels now rather than on the first tile (about 1 s with a cold PoCL cache), where
@@ -43,7 +45,8 @@ void add_serve(CLI::App& app) {
         (default_backend() == Backend::auto_ && opencl_info().device_type == "gpu"))
       std::thread([] { opencl_warm_up(); }).detach();
     auto store = std::make_shared<EmbeddedStore>(o->data_dir);
-    if (o->demo && !store->contains("demo")) create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);
+    if (o->demo && !store->contains("demo"))
+      create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);
     std::error_code ec;
     fs::path web = o->web_root;
     if (!fs::exists(web / "index.html", ec)) {
@@ -58,8 +61,8 @@ void add_serve(CLI::App& app) {
     const Router router = make_router(app);
     ServerOptions so{o->host, o->port, o->threads};
     run_http_server(so, router, hub, store->upload_dir(), [&](unsigned short port) {
-      std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size() << " dataset(s) at http://"
-                << o->host << ":" << port << "/" << std::endl;
+      std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size()
+                << " dataset(s) at http://" << o->host << ":" << port << "/" << std::endl;
     });
     std::cout << "stopped" << std::endl;
   });

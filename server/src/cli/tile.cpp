@@ -13,7 +13,8 @@ namespace trailscope::cli {
 void add_tile(CLI::App& app) {
   auto* cmd = app.add_subcommand("tile", "Render one density tile (XYZ, Web Mercator) of a dataset to PNG");
   struct Opts {
-    std::string data_dir = default_data_dir(), dataset, out, value = "count", how = "eq_hist", cmap = "fire", backend;
+    std::string data_dir = default_data_dir(), dataset, out, value = "count", how = "eq_hist", cmap = "fire",
+                backend;
     int z = 0, x = 0, y = 0, size = 256, kernel = 0;
     bool json = false;
     QueryFlags flags;
@@ -44,17 +45,21 @@ void add_tile(CLI::App& app) {
     req.how = density::parse_how(o->how, "how");
     req.cmap = o->cmap;
     req.kernel_radius = o->kernel;
-    req.max_gap_seconds = std::numeric_limits<double>::infinity();  // as the tile route: flights are split at ingest
+    req.max_gap_seconds =
+        std::numeric_limits<double>::infinity();  // as the tile route: flights are split at ingest
     req.backend = o->backend.empty() ? default_backend() : parse_backend(o->backend, "backend");
     density::DensityRenderer renderer;
     const density::TileResult r = renderer.render_tile(*ds->trails, ds->id + "@" + ds->created, q, req);
     std::ofstream out(o->out, std::ios::binary);
     out.write(r.png.data(), static_cast<std::streamsize>(r.png.size()));
     if (!out) throw Error(Error::Kind::internal, "output", "cannot write " + o->out);
-    const nlohmann::json j = {{"output", o->out}, {"bytes", r.png.size()}, {"empty", r.empty},
-                              {"max_count", r.max_count}, {"backend", r.path}, {"ms", r.ms}};
-    if (o->json) std::cout << j.dump(2) << std::endl;
-    else std::cout << "wrote " << o->out << " (" << r.png.size() << " bytes, " << r.path << ", " << r.ms << " ms)\n";
+    const nlohmann::json j = {{"output", o->out},         {"bytes", r.png.size()}, {"empty", r.empty},
+                              {"max_count", r.max_count}, {"backend", r.path},     {"ms", r.ms}};
+    if (o->json)
+      std::cout << j.dump(2) << std::endl;
+    else
+      std::cout << "wrote " << o->out << " (" << r.png.size() << " bytes, " << r.path << ", " << r.ms
+                << " ms)\n";
   });
 }
 

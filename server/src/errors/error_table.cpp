@@ -9,20 +9,30 @@ namespace trailscope::server {
 
 int http_status(Error::Kind kind) noexcept {
   switch (kind) {
-    case Error::Kind::invalid_argument: return 400;
-    case Error::Kind::not_found: return 404;
-    case Error::Kind::conflict: return 409;
-    case Error::Kind::payload_too_large: return 413;
-    case Error::Kind::unsupported_format: return 415;
-    case Error::Kind::unprocessable: return 422;
-    case Error::Kind::cancelled: return 409;
-    case Error::Kind::backend: return 500;
-    case Error::Kind::internal: return 500;
+    case Error::Kind::invalid_argument:
+      return 400;
+    case Error::Kind::not_found:
+      return 404;
+    case Error::Kind::conflict:
+      return 409;
+    case Error::Kind::payload_too_large:
+      return 413;
+    case Error::Kind::unsupported_format:
+      return 415;
+    case Error::Kind::unprocessable:
+      return 422;
+    case Error::Kind::cancelled:
+      return 409;
+    case Error::Kind::backend:
+      return 500;
+    case Error::Kind::internal:
+      return 500;
   }
   return 500;
 }
 
-Response error_response(int status, const std::string& error, const std::string& param, const std::string& detail) {
+Response error_response(int status, const std::string& error, const std::string& param,
+                        const std::string& detail) {
   return Response::json(status, {{"error", error}, {"detail", detail}, {"param", param}});
 }
 

@@ -16,6 +16,7 @@ int http_status(Error::Kind kind) noexcept;
 /// The response for any exception: trailscope::Error by its kind, nlohmann::json parse errors as 400
 /// (param "body"), std::bad_alloc as 507, anything else as 500 (logged, with a generic detail).
 Response error_response(const std::exception& e);
-Response error_response(int status, const std::string& error, const std::string& param, const std::string& detail);
+Response error_response(int status, const std::string& error, const std::string& param,
+                        const std::string& detail);
 
 }  // namespace trailscope::server

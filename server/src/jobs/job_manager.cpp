@@ -13,9 +13,8 @@ constexpr auto kProgressInterval = std::chrono::milliseconds(100);
 }  // namespace
 
 nlohmann::json JobState::to_json() const {
-  return {{"id", id},         {"kind", kind},       {"state", state},
-          {"progress", progress}, {"stage", stage}, {"dataset", dataset},
-          {"result", result}, {"error", error}};
+  return {{"id", id},       {"kind", kind},       {"state", state},   {"progress", progress},
+          {"stage", stage}, {"dataset", dataset}, {"result", result}, {"error", error}};
 }
 
 JobManager::JobManager(unsigned workers) {
@@ -147,8 +146,7 @@ void JobManager::worker_loop() {
     } catch (const Error& e) {
       std::lock_guard lock(mu_);
       job->state.state = e.kind() == Error::Kind::cancelled ? "cancelled" : "failed";
-      if (job->state.state == "failed")
-        job->state.error = nlohmann::json::parse(error_response(e).body);
+      if (job->state.state == "failed") job->state.error = nlohmann::json::parse(error_response(e).body);
       final_state = job->state;
     } catch (const std::exception& e) {
       std::lock_guard lock(mu_);

@@ -74,8 +74,8 @@ http::response<http::string_body> to_beast(Response res, unsigned version, bool 
 }
 
 // Writes a response; shared bodies (cached tiles) go out without a copy, kept alive by `res`.
-net::awaitable<void> write_response(beast::tcp_stream& stream, Response res, unsigned version, bool keep_alive,
-                                    beast::error_code& ec) {
+net::awaitable<void> write_response(beast::tcp_stream& stream, Response res, unsigned version,
+                                    bool keep_alive, beast::error_code& ec) {
   if (res.head_only) {
     http::response<http::empty_body> out{static_cast<http::status>(res.status), version};
     set_head(out, res, keep_alive);
@@ -100,7 +100,8 @@ fs::path upload_path(const fs::path& dir) {
   return dir / ("upload-" + std::to_string(rd()) + "-" + std::to_string(counter++));
 }
 
-net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsHub& hub, fs::path upload_dir) {
+net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsHub& hub,
+                             fs::path upload_dir) {
   beast::flat_buffer buffer;
   beast::error_code ec;
   for (;;) {
@@ -117,7 +118,8 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
 
     if (beast::websocket::is_upgrade(h)) {
       if (h.target() != "/api/v1/ws") {
-        auto res = to_beast(error_response(404, "not_found", "path", "WebSocket endpoint is /api/v1/ws"), version, false);
+        auto res = to_beast(error_response(404, "not_found", "path", "WebSocket endpoint is /api/v1/ws"),
+                            version, false);
         co_await http::async_write(stream, res, net::redirect_error(net::use_awaitable, ec));
         break;
       }
@@ -132,8 +134,9 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     try {
       const std::uint64_t limit = is_upload(h) ? limits::kMaxUploadBytes : limits::kMaxRequestBodyBytes;
       if (head.content_length() && *head.content_length() > limit)
-        throw Error(Error::Kind::payload_too_large, "body",
-                    is_upload(h) ? "upload exceeds the limit of 2 GiB" : "request body exceeds the limit of 1 MiB");
+        throw Error(
+            Error::Kind::payload_too_large, "body",
+            is_upload(h) ? "upload exceeds the limit of 2 GiB" : "request body exceeds the limit of 1 MiB");
       if (is_upload(h)) {
         // Uploads stream to disk with their own limit and timeout; memory stays flat.
         file = upload_path(upload_dir);

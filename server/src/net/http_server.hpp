@@ -14,7 +14,7 @@ class WsHub;
 
 struct ServerOptions {
   std::string host = "127.0.0.1";
-  unsigned short port = 8080;   ///< 0 picks a free port
+  unsigned short port = 8080;  ///< 0 picks a free port
   unsigned threads = 2;
 };
 
@@ -22,6 +22,7 @@ struct ServerOptions {
 /// Streamed uploads (POST /api/v1/datasets) go to `upload_dir` instead of memory. Throws Error(internal)
 /// when the address cannot be bound.
 void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub,
-                     const std::filesystem::path& upload_dir, const std::function<void(unsigned short)>& on_listening);
+                     const std::filesystem::path& upload_dir,
+                     const std::function<void(unsigned short)>& on_listening);
 
 }  // namespace trailscope::server

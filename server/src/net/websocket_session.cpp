@@ -37,7 +37,8 @@ void WsHub::broadcast(std::string message) {
     if (auto s = w.lock()) s->send(shared);
 }
 
-WebSocketSession::WebSocketSession(beast::tcp_stream&& stream, WsHub& hub) : ws_(std::move(stream)), hub_(hub) {}
+WebSocketSession::WebSocketSession(beast::tcp_stream&& stream, WsHub& hub)
+    : ws_(std::move(stream)), hub_(hub) {}
 
 WebSocketSession::~WebSocketSession() {
   if (joined_) hub_.leave(this);
@@ -76,8 +77,8 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
 }
 
 void WebSocketSession::send(std::shared_ptr<const std::string> message) {
-  boost::asio::post(ws_.get_executor(),
-                    beast::bind_front_handler(&WebSocketSession::on_send, shared_from_this(), std::move(message)));
+  boost::asio::post(ws_.get_executor(), beast::bind_front_handler(&WebSocketSession::on_send,
+                                                                  shared_from_this(), std::move(message)));
 }
 
 void WebSocketSession::on_send(std::shared_ptr<const std::string> message) {

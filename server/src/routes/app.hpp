@@ -15,8 +15,8 @@ namespace trailscope::server {
 
 struct App {
   std::shared_ptr<DatasetStore> store;
-  std::filesystem::path upload_dir;   ///< where streamed uploads are written
-  std::filesystem::path web_root;     ///< built browser app (web/dist); empty = none
+  std::filesystem::path upload_dir;  ///< where streamed uploads are written
+  std::filesystem::path web_root;    ///< built browser app (web/dist); empty = none
   JobManager jobs{1};
   TileCache tiles;
   density::DensityRenderer density;

@@ -59,16 +59,17 @@ Response create_dataset(App& app, const Request& req, const PathParams&) {
     if (!out) throw Error(Error::Kind::internal, "", "cannot write upload to " + ing.file.string());
   }
   auto store = app.store;
-  const JobState job = app.jobs.submit("ingest", ing.name, [store, ing](const ProgressFn& progress, const CancelToken& cancel) {
-    struct RemoveFile {
-      fs::path p;
-      ~RemoveFile() {
-        std::error_code ec;
-        fs::remove(p, ec);
-      }
-    } cleanup{ing.file};
-    return ingest_into_store(*store, ing, progress, &cancel)->to_json();
-  });
+  const JobState job = app.jobs.submit("ingest", ing.name,
+                                       [store, ing](const ProgressFn& progress, const CancelToken& cancel) {
+                                         struct RemoveFile {
+                                           fs::path p;
+                                           ~RemoveFile() {
+                                             std::error_code ec;
+                                             fs::remove(p, ec);
+                                           }
+                                         } cleanup{ing.file};
+                                         return ingest_into_store(*store, ing, progress, &cancel)->to_json();
+                                       });
   Response res = Response::json(202, {{"job", job.to_json()}});
   res.headers.emplace_back("Location", "/api/v1/jobs/" + job.id);
   return res;
@@ -80,13 +81,16 @@ Response summary(App& app, const Request& req, const PathParams& p) {
   const Query q = parse_query(req.query);
   SummaryOptions opts;
   opts.bins = static_cast<int>(params::integer(req, "bins", opts.bins, 1, limits::kMaxHistogramBins));
-  opts.top_callsigns = static_cast<int>(params::integer(req, "top", opts.top_callsigns, 0, limits::kMaxTopCallsigns));
-  if (auto u = req.query.find("alt_unit"); u != req.query.end() && u->second == "m") opts.alt_unit = AltUnit::m;
+  opts.top_callsigns =
+      static_cast<int>(params::integer(req, "top", opts.top_callsigns, 0, limits::kMaxTopCallsigns));
+  if (auto u = req.query.find("alt_unit"); u != req.query.end() && u->second == "m")
+    opts.alt_unit = AltUnit::m;
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json j = summarize(*ds->trails, q, opts).to_json();
   j["dataset"] = ds->id;
   j["query"] = q.canonical();
-  j["elapsed_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  j["elapsed_ms"] =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return Response::json(200, j);
 }
 
@@ -105,8 +109,8 @@ Response get_flight(App& app, const Request& req, const PathParams& p) {
   const auto id = params::path_integer(p, "flight_id", 0, 0xffffffffLL);
   const Query q = parse_query(req.query);
   const bool clip = params::integer(req, "clip", 0, 0, 1) == 1;
-  const auto max_points = params::integer(req, "max_points", limits::kMaxPointsPerResponse, 1,
-                                          limits::kMaxPointsPerResponse);
+  const auto max_points =
+      params::integer(req, "max_points", limits::kMaxPointsPerResponse, 1, limits::kMaxPointsPerResponse);
   Response res = Response::json(200, flight_geojson(*ds->trails, id, q, clip, max_points));
   res.content_type = "application/geo+json";
   return res;

@@ -13,12 +13,12 @@
 namespace trailscope::server {
 
 struct Request {
-  std::string method;                         ///< "GET", "POST", ...
-  std::string path;                           ///< percent-decoded path, e.g. /api/v1/datasets/demo
-  std::map<std::string, std::string> query;   ///< percent-decoded query parameters (last one wins)
-  std::map<std::string, std::string> headers; ///< lower-case names
-  std::string body;                           ///< small bodies
-  std::filesystem::path body_file;            ///< streamed upload, when set (the handler takes ownership)
+  std::string method;                          ///< "GET", "POST", ...
+  std::string path;                            ///< percent-decoded path, e.g. /api/v1/datasets/demo
+  std::map<std::string, std::string> query;    ///< percent-decoded query parameters (last one wins)
+  std::map<std::string, std::string> headers;  ///< lower-case names
+  std::string body;                            ///< small bodies
+  std::filesystem::path body_file;             ///< streamed upload, when set (the handler takes ownership)
   std::string header(const std::string& name) const {
     auto it = headers.find(name);
     return it == headers.end() ? std::string() : it->second;

@@ -7,8 +7,8 @@
 namespace trailscope::server::params {
 
 const std::vector<std::string>& query_keys() {
-  static const std::vector<std::string> keys = {"bbox",     "t0",       "t1",       "alt_min", "alt_max",
-                                                "alt_unit", "icao24",   "callsign", "on_ground"};
+  static const std::vector<std::string> keys = {"bbox",     "t0",     "t1",       "alt_min",  "alt_max",
+                                                "alt_unit", "icao24", "callsign", "on_ground"};
   return keys;
 }
 
@@ -17,14 +17,15 @@ std::vector<std::string> with_query_keys(std::vector<std::string> extra) {
   return extra;
 }
 
-static std::int64_t parse_int(const std::string& text, const std::string& name, std::int64_t lo, std::int64_t hi) {
+static std::int64_t parse_int(const std::string& text, const std::string& name, std::int64_t lo,
+                              std::int64_t hi) {
   std::int64_t v = 0;
   auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || p != text.data() + text.size() || text.empty())
     throw invalid_argument(name, name + ": '" + text + "' is not an integer");
   if (v < lo || v > hi)
-    throw invalid_argument(name, name + " must lie in " + std::to_string(lo) + ".." + std::to_string(hi) +
-                                     ", got " + text);
+    throw invalid_argument(
+        name, name + " must lie in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + text);
   return v;
 }
 

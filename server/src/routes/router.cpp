@@ -36,7 +36,8 @@ bool match_route(const std::string& pattern, const std::string& path, PathParams
     if (x.size() < prefix.size() + suffix.size() + 1) return false;
     if (x.compare(0, prefix.size(), prefix) != 0) return false;
     if (x.compare(x.size() - suffix.size(), suffix.size(), suffix) != 0) return false;
-    found[p.substr(open + 1, close - open - 1)] = x.substr(prefix.size(), x.size() - prefix.size() - suffix.size());
+    found[p.substr(open + 1, close - open - 1)] =
+        x.substr(prefix.size(), x.size() - prefix.size() - suffix.size());
   }
   params = std::move(found);
   return true;
@@ -62,7 +63,8 @@ Response Router::handle(const Request& req) const {
       allow += (allow.empty() ? "" : ", ") + r.method;
     }
     if (path_known) {
-      Response res = error_response(405, "method_not_allowed", "", req.method + " is not allowed on " + req.path);
+      Response res =
+          error_response(405, "method_not_allowed", "", req.method + " is not allowed on " + req.path);
       res.headers.emplace_back("Allow", allow);
       return res;
     }

@@ -6,7 +6,10 @@ namespace trailscope::server {
 
 App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
          std::size_t tile_cache_bytes)
-    : store(std::move(s)), upload_dir(std::move(uploads)), web_root(std::move(web)), tiles(tile_cache_bytes) {}
+    : store(std::move(s)),
+      upload_dir(std::move(uploads)),
+      web_root(std::move(web)),
+      tiles(tile_cache_bytes) {}
 
 Router make_router(App& app) {
   Router r;
@@ -15,18 +18,18 @@ Router make_router(App& app) {
   };
   using namespace handlers;
   // method  pattern                                               handler          statuses
-  r.add("GET", "/api/v1/health", bind(health));                                   // 200
-  r.add("GET", "/api/v1/datasets", bind(list_datasets));                          // 200
-  r.add("POST", "/api/v1/datasets", bind(create_dataset));                        // 202 400 409 413
-  r.add("GET", "/api/v1/datasets/{dataset}", bind(get_dataset));                  // 200 404
-  r.add("DELETE", "/api/v1/datasets/{dataset}", bind(delete_dataset));            // 204 404
-  r.add("GET", "/api/v1/datasets/{dataset}/summary", bind(summary));             // 200 400 404
-  r.add("GET", "/api/v1/datasets/{dataset}/flights", bind(list_flights));        // 200 400 404
+  r.add("GET", "/api/v1/health", bind(health));                                      // 200
+  r.add("GET", "/api/v1/datasets", bind(list_datasets));                             // 200
+  r.add("POST", "/api/v1/datasets", bind(create_dataset));                           // 202 400 409 413
+  r.add("GET", "/api/v1/datasets/{dataset}", bind(get_dataset));                     // 200 404
+  r.add("DELETE", "/api/v1/datasets/{dataset}", bind(delete_dataset));               // 204 404
+  r.add("GET", "/api/v1/datasets/{dataset}/summary", bind(summary));                 // 200 400 404
+  r.add("GET", "/api/v1/datasets/{dataset}/flights", bind(list_flights));            // 200 400 404
   r.add("GET", "/api/v1/datasets/{dataset}/flights/{flight_id}", bind(get_flight));  // 200 400 404 413
-  r.add("GET", "/api/v1/jobs", bind(list_jobs));                                  // 200
-  r.add("GET", "/api/v1/jobs/{job}", bind(get_job));                              // 200 404
-  r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));                        // 200 404
-  r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile));  // 200 304 400 404
+  r.add("GET", "/api/v1/jobs", bind(list_jobs));                                     // 200
+  r.add("GET", "/api/v1/jobs/{job}", bind(get_job));                                 // 200 404
+  r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));                           // 200 404
+  r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile));      // 200 304 400 404
   // GET /api/v1/ws (WebSocket upgrade) is taken by the HTTP session before routing.
   r.set_fallback(bind(static_file));
   return r;

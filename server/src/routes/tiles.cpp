@@ -33,7 +33,8 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
   density::TileRequest t;
   t.tile = geo::TileId{z, static_cast<int>(params::path_integer(p, "x", 0, n - 1)),
                        static_cast<int>(params::path_integer(p, "y", 0, n - 1))};
-  t.size = static_cast<int>(params::integer(req, "size", limits::kTileSizeSmall, limits::kTileSizeSmall, limits::kTileSizeLarge));
+  t.size = static_cast<int>(
+      params::integer(req, "size", limits::kTileSizeSmall, limits::kTileSizeSmall, limits::kTileSizeLarge));
   if (t.size != limits::kTileSizeSmall && t.size != limits::kTileSizeLarge)
     throw invalid_argument("size", "size must be 256 or 512");
   const std::string value = param_or(req, "value", "count"), how = param_or(req, "how", "eq_hist");

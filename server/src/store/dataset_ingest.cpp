@@ -1,19 +1,24 @@
 #include "store/dataset_ingest.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <ctime>
 
 #include "trailscope/ingest/ingest.hpp"
 
 namespace trailscope::server {
 
-std::string utc_now_iso() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+std::string iso_utc(double unix_seconds) {
+  const std::time_t s = static_cast<std::time_t>(std::floor(unix_seconds));
   std::tm tm{};
-  gmtime_r(&now, &tm);
+  gmtime_r(&s, &tm);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
+}
+
+std::string utc_now_iso() {
+  return iso_utc(static_cast<double>(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())));
 }
 
 std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const IngestRequest& req,

@@ -11,9 +11,9 @@
 namespace trailscope::server {
 
 struct IngestRequest {
-  std::filesystem::path file;          ///< plain or gzip
-  std::string name;                    ///< dataset id (validated)
-  std::optional<std::string> format;   ///< a format name; detected from content when absent
+  std::filesystem::path file;         ///< plain or gzip
+  std::string name;                   ///< dataset id (validated)
+  std::optional<std::string> format;  ///< a format name; detected from content when absent
 };
 
 /// Parses `req.file`, assembles flights and stores the dataset. Throws what ingest_file throws
@@ -23,5 +23,7 @@ std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const Inge
 
 /// Current UTC time as ISO 8601 ("2026-11-22T11:00:00Z").
 std::string utc_now_iso();
+/// A Unix time (seconds, UTC) as ISO 8601 to the second ("2018-01-01T06:00:00Z").
+std::string iso_utc(double unix_seconds);
 
 }  // namespace trailscope::server

@@ -7,7 +7,8 @@
 namespace trailscope::server {
 
 void validate_dataset_id(const std::string& id, const std::string& param) {
-  const bool ok = !id.empty() && id.size() <= 64 && id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") == std::string::npos;
+  const bool ok = !id.empty() && id.size() <= 64 &&
+                  id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") == std::string::npos;
   if (!ok)
     throw invalid_argument(param, param + ": '" + id + "' is not a valid dataset id (1-64 of a-z 0-9 _ -)");
 }
@@ -17,8 +18,10 @@ std::string dataset_id_from_name(const std::string& name) {
   for (char c : name) {
     const unsigned char u = static_cast<unsigned char>(std::tolower(static_cast<unsigned char>(c)));
     const bool keep = std::isalnum(u) || u == '_' || u == '-';
-    if (keep) id.push_back(static_cast<char>(u));
-    else if (!id.empty() && id.back() != '-') id.push_back('-');
+    if (keep)
+      id.push_back(static_cast<char>(u));
+    else if (!id.empty() && id.back() != '-')
+      id.push_back('-');
     if (id.size() == 64) break;
   }
   while (!id.empty() && id.back() == '-') id.pop_back();

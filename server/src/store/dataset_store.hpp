@@ -13,10 +13,10 @@ namespace trailscope::server {
 
 /// A stored, immutable dataset: its trails and what is known about where they came from.
 struct Dataset {
-  std::string id;       ///< [a-z0-9_-], 1..64 chars; unique in the store
-  std::string name;     ///< display name
-  std::string format;   ///< source format ("so6", "opensky_csv", "demo", ...)
-  std::string created;  ///< ISO 8601 UTC
+  std::string id;         ///< [a-z0-9_-], 1..64 chars; unique in the store
+  std::string name;       ///< display name
+  std::string format;     ///< source format ("so6", "opensky_csv", "demo", ...)
+  std::string created;    ///< ISO 8601 UTC
   nlohmann::json ingest;  ///< the ingest report
   std::shared_ptr<const TrailSet> trails;
 

@@ -99,12 +99,11 @@ void EmbeddedStore::write_dataset(const Dataset& ds, const fs::path& dir) {
     icao.push_back(f.icao24), callsign.push_back(f.callsign);
   }
   write_column(dir, "flight_ranges", ranges);
-  const nlohmann::json manifest = {{"magic", kMagic},     {"version", kFormatVersion},
-                                   {"id", ds.id},         {"name", ds.name},
-                                   {"format", ds.format}, {"created", ds.created},
-                                   {"ingest", ds.ingest}, {"points", p.size()},
-                                   {"flights", t.num_flights()}, {"icao24", icao},
-                                   {"callsign", callsign}};
+  const nlohmann::json manifest = {
+      {"magic", kMagic},     {"version", kFormatVersion}, {"id", ds.id},
+      {"name", ds.name},     {"format", ds.format},       {"created", ds.created},
+      {"ingest", ds.ingest}, {"points", p.size()},        {"flights", t.num_flights()},
+      {"icao24", icao},      {"callsign", callsign}};
   // The manifest is written last: a folder without it is incomplete by definition.
   const fs::path mp = dir / "manifest.json";
   std::ofstream out(mp, std::ios::trunc);
@@ -183,7 +182,8 @@ void EmbeddedStore::put(std::shared_ptr<const Dataset> ds) {
   try {
     write_dataset(*ds, tmp);
     std::lock_guard lock(mu_);
-    if (datasets_.count(ds->id)) throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
+    if (datasets_.count(ds->id))
+      throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
     const fs::path final_dir = root_ / "datasets" / ds->id;
     // rename(2) of a folder is atomic: readers after a crash see the old state or the whole dataset.
     fs::rename(tmp, final_dir, ec);

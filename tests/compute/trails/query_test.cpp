@@ -105,7 +105,8 @@ TEST(Summary, HistogramsAndSpeedOnKnownData) {
   TrailSetBuilder b;
   for (int i = 0; i < 100; ++i) {
     Sample x;
-    x.t = 1000 + i * 10, x.lat = 50, x.lon = 4, x.alt = static_cast<float>(i * 30.48), x.speed = static_cast<float>(i);
+    x.t = 1000 + i * 10, x.lat = 50, x.lon = 4, x.alt = static_cast<float>(i * 30.48),
+    x.speed = static_cast<float>(i);
     b.add("aaaaaa", "TEST1", x);
   }
   const TrailSet t = b.build();

@@ -51,12 +51,14 @@ const std::vector<RawPoint>& raw_points() {
     while (std::getline(in, line)) {
       std::istringstream ls(line);
       std::string seg, adep, ades, type, hb, he, flb, fle, status, cs, db, de, latb, lonb, late, lone, fid;
-      ls >> seg >> adep >> ades >> type >> hb >> he >> flb >> fle >> status >> cs >> db >> de >> latb >> lonb >> late >>
-          lone >> fid;
+      ls >> seg >> adep >> ades >> type >> hb >> he >> flb >> fle >> status >> cs >> db >> de >> latb >>
+          lonb >> late >> lone >> fid;
       if (fid.empty()) continue;
       const double tb = seconds(hb), te = seconds(he);
-      uniq.try_emplace({fid, tb}, RawPoint{fid, tb, std::stod(latb) / 60, std::stod(lonb) / 60, std::stod(flb) * 30.48});
-      uniq.try_emplace({fid, te}, RawPoint{fid, te, std::stod(late) / 60, std::stod(lone) / 60, std::stod(fle) * 30.48});
+      uniq.try_emplace({fid, tb},
+                       RawPoint{fid, tb, std::stod(latb) / 60, std::stod(lonb) / 60, std::stod(flb) * 30.48});
+      uniq.try_emplace({fid, te},
+                       RawPoint{fid, te, std::stod(late) / 60, std::stod(lone) / 60, std::stod(fle) * 30.48});
     }
     std::vector<RawPoint> v;
     for (auto& [k, p] : uniq) v.push_back(p);
@@ -111,8 +113,8 @@ TEST(WindowQuery, WindowsMatchIndependentCounts) {
       {"20,35,30,45", "2018-01-01T12:00:00+01:00", "2018-01-01T18:00:00Z", "0", "9000"},
   };
   for (const Case& c : cases) {
-    const Query q = parse_query({{"bbox", c.bbox}, {"t0", c.t0}, {"t1", c.t1}, {"alt_min", c.alt_min},
-                                 {"alt_max", c.alt_max}});
+    const Query q = parse_query(
+        {{"bbox", c.bbox}, {"t0", c.t0}, {"t1", c.t1}, {"alt_min", c.alt_min}, {"alt_max", c.alt_max}});
     const Expected e = count(*q.t0, *q.t1, *q.bbox, *q.alt_min, *q.alt_max);
     const Summary s = summarize(europe(), q);
     SCOPED_TRACE(c.bbox);

@@ -11,15 +11,15 @@ namespace trailscope {
 class Error : public std::runtime_error {
  public:
   enum class Kind {
-    invalid_argument,   ///< a parameter is malformed or out of range (HTTP 400)
-    not_found,          ///< a named resource does not exist (404)
-    conflict,           ///< the resource exists or is busy (409)
-    payload_too_large,  ///< an upload or a result exceeds a limit (413)
-    unsupported_format, ///< input is not trail data / not a known format (415)
-    unprocessable,      ///< well-formed but unusable input, e.g. no valid rows (422)
-    cancelled,          ///< a long job was cancelled by its owner
-    backend,            ///< an OpenCL backend could not run (callers fall back to the reference)
-    internal,           ///< a bug or an I/O failure (500)
+    invalid_argument,    ///< a parameter is malformed or out of range (HTTP 400)
+    not_found,           ///< a named resource does not exist (404)
+    conflict,            ///< the resource exists or is busy (409)
+    payload_too_large,   ///< an upload or a result exceeds a limit (413)
+    unsupported_format,  ///< input is not trail data / not a known format (415)
+    unprocessable,       ///< well-formed but unusable input, e.g. no valid rows (422)
+    cancelled,           ///< a long job was cancelled by its owner
+    backend,             ///< an OpenCL backend could not run (callers fall back to the reference)
+    internal,            ///< a bug or an I/O failure (500)
   };
   Error(Kind kind, std::string param, const std::string& detail)
       : std::runtime_error(detail), kind_(kind), param_(std::move(param)) {}

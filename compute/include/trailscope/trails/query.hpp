@@ -21,10 +21,10 @@ struct BBox {
 
 struct Query {
   std::optional<BBox> bbox;
-  std::optional<double> t0, t1;          ///< half-open [t0, t1), Unix seconds
-  std::optional<double> alt_min, alt_max; ///< metres, inclusive; points with unknown altitude fail a band
-  std::vector<std::string> icao24;       ///< lower-case hex; empty = any
-  std::string callsign;                  ///< upper-case pattern: `*` any run, `?` one char; no wildcard = prefix
+  std::optional<double> t0, t1;            ///< half-open [t0, t1), Unix seconds
+  std::optional<double> alt_min, alt_max;  ///< metres, inclusive; points with unknown altitude fail a band
+  std::vector<std::string> icao24;         ///< lower-case hex; empty = any
+  std::string callsign;  ///< upper-case pattern: `*` any run, `?` one char; no wildcard = prefix
   std::optional<bool> on_ground;
 
   /// Flight-level filters (icao24, callsign) and the flight's extents against the window.

@@ -16,31 +16,31 @@ namespace trailscope {
 enum class AltUnit { ft, m };
 
 struct SummaryOptions {
-  int bins = 96;              ///< time-histogram bins wanted, 1..limits::kMaxHistogramBins (the bin width is
-                              ///< rounded up to a "nice" duration, so there may be fewer)
+  int bins = 96;  ///< time-histogram bins wanted, 1..limits::kMaxHistogramBins (the bin width is
+                  ///< rounded up to a "nice" duration, so there may be fewer)
   AltUnit alt_unit = AltUnit::ft;  ///< unit of the altitude histogram (bins of 1000 ft or 300 m)
-  int top_callsigns = 10;     ///< entries in top_callsigns, 0..limits::kMaxTopCallsigns
+  int top_callsigns = 10;          ///< entries in top_callsigns, 0..limits::kMaxTopCallsigns
 };
 
 struct Summary {
-  std::uint64_t flights = 0;  ///< flights with at least one matching point
-  std::uint64_t points = 0;   ///< matching points
+  std::uint64_t flights = 0;    ///< flights with at least one matching point
+  std::uint64_t points = 0;     ///< matching points
   double t_min = 0, t_max = 0;  ///< time of the first and last matching point (Unix s); 0 when none
   struct TimeHistogram {
-    double t0 = 0;            ///< start of the first bin (Unix s, a multiple of bin_seconds)
+    double t0 = 0;  ///< start of the first bin (Unix s, a multiple of bin_seconds)
     double bin_seconds = 0;
     std::vector<std::uint64_t> counts;  ///< matching points per bin
   } time_histogram;
   struct AltitudeHistogram {
     AltUnit unit = AltUnit::ft;
-    double bin_width = 1000;  ///< in `unit`
-    double min = 0;           ///< lower edge of the first bin, in `unit`
+    double bin_width = 1000;            ///< in `unit`
+    double min = 0;                     ///< lower edge of the first bin, in `unit`
     std::vector<std::uint64_t> counts;  ///< matching points with a known altitude per bin
   } altitude_histogram;
   struct SpeedStats {
-    std::uint64_t count = 0;  ///< matching points with a known speed
+    std::uint64_t count = 0;            ///< matching points with a known speed
     double min = 0, max = 0, mean = 0;  ///< m/s, exact
-    double p50 = 0, p95 = 0;  ///< m/s, from a 0.25 m/s histogram (so within 0.25 m/s of exact)
+    double p50 = 0, p95 = 0;            ///< m/s, from a 0.25 m/s histogram (so within 0.25 m/s of exact)
   } speed;
   struct CallsignCount {
     std::string callsign;
@@ -57,15 +57,15 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
 
 /// One row of the flight list: a flight with the part of it inside the window.
 struct FlightRow {
-  std::uint32_t id = 0;       ///< index of the flight in TrailSet::flights(); stable for a stored dataset
+  std::uint32_t id = 0;  ///< index of the flight in TrailSet::flights(); stable for a stored dataset
   std::string icao24, callsign;
   double t_start = 0, t_end = 0;  ///< first and last matching point (Unix s)
-  std::uint64_t points = 0;   ///< matching points
-  double alt_max_m = 0;       ///< highest matching altitude (m), NaN when unknown
+  std::uint64_t points = 0;       ///< matching points
+  double alt_max_m = 0;           ///< highest matching altitude (m), NaN when unknown
 };
 
 struct FlightPage {
-  std::uint64_t total = 0;    ///< matching flights over all pages
+  std::uint64_t total = 0;  ///< matching flights over all pages
   std::size_t page = 0, page_size = 0;
   std::vector<FlightRow> flights;  ///< ordered by t_start, then id
   nlohmann::json to_json() const;

@@ -12,11 +12,11 @@ namespace trailscope {
 struct Flight {
   std::string icao24;    ///< 24-bit ICAO address, lower-case hex (6 chars); may be empty for SO6 data
   std::string callsign;  ///< trimmed, upper-case; may be empty
-  std::uint32_t begin = 0, end = 0;  ///< point range
-  double t_min = 0, t_max = 0;       ///< Unix seconds
+  std::uint32_t begin = 0, end = 0;                          ///< point range
+  double t_min = 0, t_max = 0;                               ///< Unix seconds
   float lat_min = 0, lat_max = 0, lon_min = 0, lon_max = 0;  ///< degrees; lon extent may cross 180
-  float alt_min = 0, alt_max = 0;    ///< metres over the known altitudes; NaN when no point has one
-  bool crosses_antimeridian = false; ///< some consecutive pair has |Δlon| > 180°
+  float alt_min = 0, alt_max = 0;     ///< metres over the known altitudes; NaN when no point has one
+  bool crosses_antimeridian = false;  ///< some consecutive pair has |Δlon| > 180°
   std::uint32_t size() const { return end - begin; }
 };
 
@@ -26,13 +26,13 @@ void compute_extents(Flight& f, const PointColumns& points);
 
 /// Columns of all points. Every vector has the same length. NaN marks an unknown value.
 struct PointColumns {
-  std::vector<double> t;          ///< Unix seconds (UTC)
-  std::vector<float> lat;         ///< degrees, [-90, 90]
-  std::vector<float> lon;         ///< degrees, [-180, 180)
-  std::vector<float> alt;         ///< barometric altitude, metres (NaN unknown)
-  std::vector<float> speed;       ///< ground speed, m/s (NaN unknown)
-  std::vector<float> track;       ///< true track, degrees clockwise from north, [0, 360) (NaN unknown)
-  std::vector<float> vrate;       ///< vertical rate, m/s, positive up (NaN unknown)
+  std::vector<double> t;                ///< Unix seconds (UTC)
+  std::vector<float> lat;               ///< degrees, [-90, 90]
+  std::vector<float> lon;               ///< degrees, [-180, 180)
+  std::vector<float> alt;               ///< barometric altitude, metres (NaN unknown)
+  std::vector<float> speed;             ///< ground speed, m/s (NaN unknown)
+  std::vector<float> track;             ///< true track, degrees clockwise from north, [0, 360) (NaN unknown)
+  std::vector<float> vrate;             ///< vertical rate, m/s, positive up (NaN unknown)
   std::vector<std::uint8_t> on_ground;  ///< 1 on the ground, 0 airborne
   std::size_t size() const { return t.size(); }
   void reserve(std::size_t n);

@@ -1,7 +1,8 @@
 #pragma once
 // Collects raw samples from any reader and turns them into flights: groups by (icao24, callsign), sorts
-// by time, keeps the first of several samples with the same time (later ones count as duplicates), splits at gaps longer than limits::kFlightGapSeconds, and computes the
-// per-flight extents. Out-of-order input is fine; the builder sorts.
+// by time, keeps the first of several samples with the same time (later ones count as duplicates), splits at
+// gaps longer than limits::kFlightGapSeconds, and computes the per-flight extents. Out-of-order input is
+// fine; the builder sorts.
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -16,12 +17,12 @@ namespace trailscope {
 /// One raw sample in SI units. Unknown values are NaN (on_ground defaults to airborne).
 struct Sample {
   static constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
-  double t = 0;                 ///< Unix seconds
-  float lat = 0, lon = 0;       ///< degrees
-  float alt = kUnknown;         ///< barometric altitude, metres
-  float speed = kUnknown;       ///< ground speed, m/s
-  float track = kUnknown;       ///< degrees from true north
-  float vrate = kUnknown;       ///< m/s, positive up
+  double t = 0;            ///< Unix seconds
+  float lat = 0, lon = 0;  ///< degrees
+  float alt = kUnknown;    ///< barometric altitude, metres
+  float speed = kUnknown;  ///< ground speed, m/s
+  float track = kUnknown;  ///< degrees from true north
+  float vrate = kUnknown;  ///< m/s, positive up
   bool on_ground = false;
 };
 
@@ -36,8 +37,9 @@ class TrailSetBuilder {
   std::size_t size() const { return samples_; }
 
   struct Stats {
-    std::size_t duplicates = 0;  ///< samples dropped because an identical-time sample of the same aircraft came first
-    std::size_t splits = 0;      ///< extra flights created by gaps > kFlightGapSeconds
+    std::size_t duplicates =
+        0;  ///< samples dropped because an identical-time sample of the same aircraft came first
+    std::size_t splits = 0;  ///< extra flights created by gaps > kFlightGapSeconds
   };
 
   /// Builds the TrailSet; flights are ordered by start time (then icao24, callsign), so that flights
