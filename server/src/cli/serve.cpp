@@ -53,8 +53,9 @@ void add_serve(CLI::App& app) {
       std::cerr << "note: no browser app at " << web << " (build it with `make web`); serving the API only\n";
       web.clear();
     }
-    App app(store, store->upload_dir(), web, limits::kTileCacheBytes);
+    // The hub outlives the app: jobs still finishing while the app shuts down announce their end to it.
     WsHub hub;
+    App app(store, store->upload_dir(), web, limits::kTileCacheBytes);
     app.jobs.add_listener([&hub](const JobState& s) {
       hub.broadcast(nlohmann::json{{"type", "job"}, {"job", s.to_json()}}.dump());
     });
