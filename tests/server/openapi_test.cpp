@@ -58,6 +58,7 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kRequestTimeoutSeconds", L::kRequestTimeoutSeconds},
       {"kUploadTimeoutSeconds", L::kUploadTimeoutSeconds},
       {"kMaxWebSocketMessageBytes", double(L::kMaxWebSocketMessageBytes)},
+      {"kMaxFinishedJobs", double(L::kMaxFinishedJobs)},
       {"kMaxQuerySpanSeconds", L::kMaxQuerySpanSeconds},
       {"kMaxIcao24PerQuery", double(L::kMaxIcao24PerQuery)},
       {"kMaxCallsignPatternLength", double(L::kMaxCallsignPatternLength)},

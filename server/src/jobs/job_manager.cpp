@@ -4,6 +4,7 @@
 
 #include "errors/error_table.hpp"
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
 
 namespace trailscope::server {
 
@@ -119,6 +120,10 @@ void JobManager::worker_loop() {
       job->state.state = job->cancel.cancelled() ? "cancelled" : "running";
     }
     if (job->state.state == "cancelled") {
+      {
+        std::lock_guard lock(mu_);
+        finished_.push_back(job->state.id);
+      }
       notify(job->state);
       cv_.notify_all();
       continue;
@@ -155,6 +160,14 @@ void JobManager::worker_loop() {
       final_state = job->state;
     }
     job->work = nullptr;  // release captured resources (upload files, data) early
+    {
+      std::lock_guard lock(mu_);
+      finished_.push_back(job->state.id);
+      while (finished_.size() > limits::kMaxFinishedJobs) {
+        jobs_.erase(finished_.front());
+        finished_.pop_front();
+      }
+    }
     cv_.notify_all();
     notify(final_state);
   }

@@ -19,6 +19,9 @@ inline constexpr int kUploadTimeoutSeconds = 3600;
 /// Largest WebSocket message the server accepts from a client (bytes).
 inline constexpr std::size_t kMaxWebSocketMessageBytes = 64u << 10;
 
+/// Ended jobs the server remembers for GET /api/v1/jobs/{id}; older ones are forgotten (404).
+inline constexpr std::size_t kMaxFinishedJobs = 1000;
+
 // --- queries -----------------------------------------------------------------------------------------
 /// Longest time window a query may ask for, t1 - t0 (seconds): 366 days.
 inline constexpr double kMaxQuerySpanSeconds = 366.0 * 86400.0;
