@@ -4,10 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "routes/app.hpp"
-#include "store/embedded_store.hpp"
-#include "test_support.hpp"
-#include "trailscope/core/limits.hpp"
+#include "route_fixture.hpp"
 #include "trailscope/trails/trail_set_builder.hpp"
 
 namespace trailscope::server {
@@ -30,33 +27,9 @@ std::shared_ptr<Dataset> small_dataset(const std::string& id) {
   return ds;
 }
 
-class RoutesTest : public ::testing::Test {
+class RoutesTest : public test_routes::RouteFixture {
  protected:
-  RoutesTest() {
-    store = std::make_shared<EmbeddedStore>(tmp.path() / "store");
-    store->put(small_dataset("nl"));
-    app = std::make_unique<App>(store, store->upload_dir(), std::filesystem::path(), limits::kTileCacheBytes);
-    router = make_router(*app);
-  }
-  Response get(const std::string& path, std::map<std::string, std::string> query = {}) {
-    Request r;
-    r.method = "GET", r.path = path, r.query = std::move(query);
-    return router.handle(r);
-  }
-  static nlohmann::json body(const Response& r) { return nlohmann::json::parse(r.body); }
-  void expect_error(const Response& r, int status, const std::string& error, const std::string& param) {
-    EXPECT_EQ(r.status, status) << r.body;
-    EXPECT_EQ(r.content_type, "application/json");
-    const auto j = body(r);
-    EXPECT_EQ(j.at("error"), error);
-    EXPECT_EQ(j.at("param"), param);
-    EXPECT_FALSE(j.at("detail").get<std::string>().empty());
-  }
-
-  test::TempDir tmp;
-  std::shared_ptr<EmbeddedStore> store;
-  std::unique_ptr<App> app;
-  Router router;
+  RoutesTest() { open(small_dataset("nl")); }
 };
 
 TEST_F(RoutesTest, HealthAndDatasets) {

@@ -2,19 +2,15 @@
 // name their parameter.
 #include <gtest/gtest.h>
 
-#include "routes/app.hpp"
-#include "store/embedded_store.hpp"
-#include "test_support.hpp"
-#include "trailscope/core/limits.hpp"
+#include "route_fixture.hpp"
 #include "trailscope/trails/trail_set_builder.hpp"
 
 namespace trailscope::server {
 namespace {
 
-class TilesTest : public ::testing::Test {
+class TilesTest : public test_routes::RouteFixture {
  protected:
   TilesTest() {
-    store = std::make_shared<EmbeddedStore>(tmp.path());
     TrailSetBuilder b;
     // A flight from Amsterdam towards Frankfurt, one sample a minute.
     for (int i = 0; i <= 60; ++i) {
@@ -26,31 +22,11 @@ class TilesTest : public ::testing::Test {
     auto ds = std::make_shared<Dataset>();
     ds->id = "nl", ds->name = "nl", ds->format = "test", ds->created = "2026-01-01T00:00:00Z";
     ds->trails = std::make_shared<const TrailSet>(b.build());
-    store->put(ds);
-    app = std::make_unique<App>(store, store->upload_dir(), std::filesystem::path(), limits::kTileCacheBytes);
-    router = make_router(*app);
+    open(ds);
   }
-  Response get(const std::string& path, std::map<std::string, std::string> query = {},
-               std::map<std::string, std::string> headers = {}) {
-    Request r;
-    r.method = "GET", r.path = path, r.query = std::move(query), r.headers = std::move(headers);
-    return router.handle(r);
+  static void expect_bad(const Response& r, const std::string& param) {
+    expect_error(r, 400, "invalid_argument", param);
   }
-  std::string header(const Response& r, const std::string& name) {
-    for (const auto& [k, v] : r.headers)
-      if (k == name) return v;
-    return "";
-  }
-  void expect_error(const Response& r, int status, const std::string& param) {
-    EXPECT_EQ(r.status, status) << r.body;
-    EXPECT_EQ(r.content_type, "application/json");
-    EXPECT_EQ(nlohmann::json::parse(r.body).at("param"), param) << r.body;
-  }
-
-  test::TempDir tmp;
-  std::shared_ptr<EmbeddedStore> store;
-  std::unique_ptr<App> app;
-  Router router;
 };
 
 // z = 6 tile holding Amsterdam (lon 4.76, lat 52.3): x = floor((4.76+180)/360·64) = 32, y = 21.
@@ -95,20 +71,20 @@ TEST_F(TilesTest, EmptyTileIsATransparentPng) {
 }
 
 TEST_F(TilesTest, ErrorsNameTheParameter) {
-  expect_error(get("/tiles/nl/density/23/0/0.png"), 400, "z");
-  expect_error(get("/tiles/nl/density/3/8/0.png"), 400, "x");
-  expect_error(get("/tiles/nl/density/3/0/-1.png"), 400, "y");
-  expect_error(get("/tiles/nl/density/a/0/0.png"), 400, "z");
-  expect_error(get(kTile, {{"value", "heat"}}), 400, "value");
-  expect_error(get(kTile, {{"how", "cubic"}}), 400, "how");
-  expect_error(get(kTile, {{"cmap", "rainbow"}}), 400, "cmap");
-  expect_error(get(kTile, {{"size", "300"}}), 400, "size");
-  expect_error(get(kTile, {{"kernel", "33"}}), 400, "kernel");
-  expect_error(get(kTile, {{"t0", "late"}}), 400, "t0");
-  expect_error(get(kTile, {{"zoom", "1"}}), 400, "zoom");
-  expect_error(get("/tiles/none/density/0/0/0.png"), 404, "dataset");
+  expect_bad(get("/tiles/nl/density/23/0/0.png"), "z");
+  expect_bad(get("/tiles/nl/density/3/8/0.png"), "x");
+  expect_bad(get("/tiles/nl/density/3/0/-1.png"), "y");
+  expect_bad(get("/tiles/nl/density/a/0/0.png"), "z");
+  expect_bad(get(kTile, {{"value", "heat"}}), "value");
+  expect_bad(get(kTile, {{"how", "cubic"}}), "how");
+  expect_bad(get(kTile, {{"cmap", "rainbow"}}), "cmap");
+  expect_bad(get(kTile, {{"size", "300"}}), "size");
+  expect_bad(get(kTile, {{"kernel", "33"}}), "kernel");
+  expect_bad(get(kTile, {{"t0", "late"}}), "t0");
+  expect_bad(get(kTile, {{"zoom", "1"}}), "zoom");
+  expect_error(get("/tiles/none/density/0/0/0.png"), 404, "not_found", "dataset");
   // A malformed request never gets a 304, whatever it sends as If-None-Match.
-  expect_error(get(kTile, {{"cmap", "rainbow"}}, {{"if-none-match", "*"}}), 400, "cmap");
+  expect_bad(get(kTile, {{"cmap", "rainbow"}}, {{"if-none-match", "*"}}), "cmap");
 }
 
 }  // namespace
