@@ -78,11 +78,19 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
   Summary s;
 
   // Time axis: the window when given, else the data extent.
-  const double lo = q.t0.value_or(set.t_min()), hi = q.t1.value_or(std::nextafter(set.t_max(), INFINITY));
+  double lo = q.t0.value_or(set.t_min()), hi = q.t1.value_or(std::nextafter(set.t_max(), INFINITY));
+  // A one-sided window that ends before the data starts (or starts after it ends) is empty; its
+  // histogram is one bin at the edge the client gave.
+  if (!(hi > lo)) {
+    if (q.t0)
+      hi = lo + 1;
+    else
+      lo = hi - 1;
+  }
   const double bin = nice_bin_seconds(std::max(hi - lo, 1.0), opts.bins);
   const double t_origin = std::floor(lo / bin) * bin;
-  const std::size_t time_bins =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil((hi - t_origin) / bin)));
+  // hi > lo >= t_origin, and nice_bin_seconds() keeps the count within opts.bins (+1 for alignment).
+  const std::size_t time_bins = static_cast<std::size_t>(std::max(1.0, std::ceil((hi - t_origin) / bin)));
   const double alt_unit = opts.alt_unit == AltUnit::ft ? kFeet : 1.0;
   const double alt_bin_w = opts.alt_unit == AltUnit::ft ? 1000.0 : 300.0;
   // Altitude bins from 0 to the top of the data (at least one bin); negative altitudes go to bin 0.

@@ -128,3 +128,31 @@ TEST(Summary, HistogramsAndSpeedOnKnownData) {
 
 }  // namespace
 }  // namespace trailscope
+
+namespace trailscope {
+namespace {
+
+// Regression (found by the garbage-parameter route test, 2026-11-22): a window with only t1, ending
+// before the data starts, made the histogram size negative and threw out of summarize().
+TEST(Summary, OneSidedWindowsOutsideTheData) {
+  TrailSetBuilder b;
+  for (int i = 0; i < 10; ++i) {
+    Sample x;
+    x.t = 1000 + i, x.lat = 1, x.lon = 1;
+    b.add("aaaaaa", "A", x);
+  }
+  const TrailSet t = b.build();
+  for (const auto& params : std::vector<std::map<std::string, std::string>>{
+           {{"t1", "0"}}, {{"t1", "-0"}}, {{"t0", "5000"}}, {{"t1", "1000"}}}) {
+    const Summary s = summarize(t, parse_query(params));
+    EXPECT_EQ(s.points, 0u) << params.begin()->first << "=" << params.begin()->second;
+    EXPECT_GE(s.time_histogram.counts.size(), 1u);
+    EXPECT_LE(s.time_histogram.counts.size(), 97u);
+  }
+  EXPECT_EQ(summarize(t, parse_query({{"t0", "-1e300"}})).points, 10u);  // a vast one-sided window: one bin
+  EXPECT_EQ(summarize(t, parse_query({{"t0", "1005"}})).points, 5u);
+  EXPECT_EQ(summarize(t, parse_query({{"t1", "1005"}})).points, 5u);
+}
+
+}  // namespace
+}  // namespace trailscope
