@@ -1,5 +1,6 @@
 // The real router, built in process over a real store: exact statuses, content types and error bodies.
 #include <chrono>
+#include <random>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -141,6 +142,63 @@ TEST_F(RoutesTest, DeleteDataset) {
   // Gone for good: a store reopened on the same folder does not bring it back.
   EmbeddedStore reopened(tmp.path() / "store");
   EXPECT_FALSE(reopened.contains("nl"));
+}
+
+}  // namespace
+}  // namespace trailscope::server
+
+namespace trailscope::server {
+namespace {
+
+// Garbage in every parameter of every read route: always a 2xx or a 4xx with a JSON error body, never
+// a 5xx and never an exception out of the router.
+TEST_F(RoutesTest, GarbageParametersNeverGiveServerErrors) {
+  const std::vector<std::string> paths = {"/api/v1/datasets/nl/summary",   "/api/v1/datasets/nl/flights",
+                                          "/api/v1/datasets/nl/flights/0", "/tiles/nl/density/6/32/21.png",
+                                          "/api/v1/datasets/nl",           "/api/v1/jobs/j1"};
+  const std::vector<std::string> keys = {"bbox",     "t0",     "t1",        "alt_min",   "alt_max",
+                                         "alt_unit", "icao24", "callsign",  "on_ground", "bins",
+                                         "top",      "page",   "page_size", "clip",      "max_points",
+                                         "value",    "how",    "cmap",      "size",      "kernel"};
+  const std::vector<std::string> values = {"",
+                                           " ",
+                                           "-1",
+                                           "0",
+                                           "1e309",
+                                           "nan",
+                                           "inf",
+                                           "-inf",
+                                           "99999999999999999999",
+                                           "1,2,3,4,5",
+                                           ",,,",
+                                           "180,-90,-180,90",
+                                           "2018-02-30T25:61:61Z",
+                                           "\xff\xfe",
+                                           "%00",
+                                           "a*b?c*",
+                                           std::string(5000, 'x'),
+                                           "true",
+                                           "1.5",
+                                           "-0",
+                                           "0x10",
+                                           "1514764800,1514764801"};
+  std::mt19937 rng(7);
+  int checked = 0;
+  for (const auto& path : paths) {
+    for (int round = 0; round < 200; ++round) {
+      std::map<std::string, std::string> q;
+      const int n = 1 + static_cast<int>(rng() % 4);
+      for (int k = 0; k < n; ++k) q[keys[rng() % keys.size()]] = values[rng() % values.size()];
+      const Response r = get(path, q);
+      ASSERT_LT(r.status, 500) << path << " " << nlohmann::json(q).dump() << " → " << r.body;
+      if (r.status >= 400) {
+        const auto j = body(r);
+        EXPECT_TRUE(j.contains("error") && j.contains("detail") && j.contains("param")) << r.body;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 1200);
 }
 
 }  // namespace

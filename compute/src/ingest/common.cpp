@@ -45,7 +45,8 @@ std::string quote(std::string_view s, std::size_t max) {
   std::string out = "'";
   for (std::size_t i = 0; i < s.size() && i < max; ++i) {
     const auto c = static_cast<unsigned char>(s[i]);
-    out += (c < 32 || c == 127) ? '?' : static_cast<char>(c);
+    // ASCII only: a quoted field of a damaged file must not put invalid UTF-8 into messages and JSON.
+    out += (c < 32 || c >= 127) ? '?' : static_cast<char>(c);
   }
   if (s.size() > max) out += "...";
   out += "'";

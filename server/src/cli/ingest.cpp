@@ -1,6 +1,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "trailscope/core/json_text.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
 #include "store/dataset_ingest.hpp"
@@ -42,7 +43,7 @@ void add_ingest(CLI::App& app) {
     }
     const auto j = ds->to_json();
     if (o->json) {
-      std::cout << j.dump(2) << std::endl;
+      std::cout << json_text(j, 2) << std::endl;
     } else {
       std::cout << "dataset " << ds->id << ": " << j["flights"] << " flights, " << j["points"] << " points, "
                 << ds->ingest.value("rejected", 0) << " rows rejected (" << ds->format << ")" << std::endl;

@@ -2,6 +2,7 @@
 #include <ctime>
 #include <iostream>
 
+#include "trailscope/core/json_text.hpp"
 #include "cli/commands.hpp"
 #include "store/dataset_ingest.hpp"
 #include "store/embedded_store.hpp"
@@ -58,7 +59,7 @@ void add_query(CLI::App& app) {
     if (o->flags.params.count("alt_unit") && o->flags.params["alt_unit"] == "m") opts.alt_unit = AltUnit::m;
     const Summary s = summarize(*ds->trails, parse_query(o->flags.params), opts);
     if (o->json)
-      std::cout << s.to_json().dump(2) << std::endl;
+      std::cout << json_text(s.to_json(), 2) << std::endl;
     else
       print_summary(s);
   });
@@ -71,7 +72,7 @@ void add_query(CLI::App& app) {
     const auto ds = store.get(o->dataset);
     const FlightPage p = list_flights(*ds->trails, parse_query(o->flags.params), o->page, o->page_size);
     if (o->json) {
-      std::cout << p.to_json().dump(2) << std::endl;
+      std::cout << json_text(p.to_json(), 2) << std::endl;
       return;
     }
     std::printf("%llu flights; page %zu:\n", static_cast<unsigned long long>(p.total), p.page);
@@ -87,9 +88,9 @@ void add_query(CLI::App& app) {
     server::EmbeddedStore store(o->data_dir);
     const auto ds = store.get(o->dataset);
     const bool clip = !o->flags.params.empty();
-    std::cout << flight_geojson(*ds->trails, o->flight_id, parse_query(o->flags.params), clip,
-                                limits::kMaxPointsPerResponse)
-                     .dump(o->json ? 2 : -1)
+    std::cout << json_text(flight_geojson(*ds->trails, o->flight_id, parse_query(o->flags.params), clip,
+                                          limits::kMaxPointsPerResponse),
+                           o->json ? 2 : -1)
               << std::endl;
   });
 }

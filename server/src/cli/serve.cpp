@@ -1,6 +1,7 @@
 #include <iostream>
 #include <thread>
 
+#include "trailscope/core/json_text.hpp"
 #include "cli/commands.hpp"
 #include "cli/demo_dataset.hpp"
 #include "net/http_server.hpp"
@@ -57,7 +58,7 @@ void add_serve(CLI::App& app) {
     WsHub hub;
     App app(store, store->upload_dir(), web, limits::kTileCacheBytes);
     app.jobs.add_listener([&hub](const JobState& s) {
-      hub.broadcast(nlohmann::json{{"type", "job"}, {"job", s.to_json()}}.dump());
+      hub.broadcast(json_text({{"type", "job"}, {"job", s.to_json()}}));
     });
     const Router router = make_router(app);
     ServerOptions so{o->host, o->port, o->threads};

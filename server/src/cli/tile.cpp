@@ -2,6 +2,7 @@
 #include <limits>
 #include <iostream>
 
+#include "trailscope/core/json_text.hpp"
 #include "cli/commands.hpp"
 #include "store/embedded_store.hpp"
 #include "trailscope/core/backend.hpp"
@@ -56,7 +57,7 @@ void add_tile(CLI::App& app) {
     const nlohmann::json j = {{"output", o->out},         {"bytes", r.png.size()}, {"empty", r.empty},
                               {"max_count", r.max_count}, {"backend", r.path},     {"ms", r.ms}};
     if (o->json)
-      std::cout << j.dump(2) << std::endl;
+      std::cout << json_text(j, 2) << std::endl;
     else
       std::cout << "wrote " << o->out << " (" << r.png.size() << " bytes, " << r.path << ", " << r.ms
                 << " ms)\n";

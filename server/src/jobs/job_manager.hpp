@@ -33,7 +33,6 @@ struct JobState {
 
 class JobManager {
  public:
-
   /// The work: reports progress, checks the token, returns the result JSON or throws.
   using Work = std::function<nlohmann::json(const ProgressFn&, const CancelToken&)>;
   using Listener = std::function<void(const JobState&)>;
@@ -67,7 +66,8 @@ class JobManager {
   std::condition_variable cv_;
   std::map<std::string, std::shared_ptr<Job>> jobs_;
   std::deque<std::shared_ptr<Job>> queue_;
-  std::deque<std::string> finished_;  ///< ids of ended jobs, oldest first (pruned past limits::kMaxFinishedJobs)
+  std::deque<std::string>
+      finished_;  ///< ids of ended jobs, oldest first (pruned past limits::kMaxFinishedJobs)
   std::vector<Listener> listeners_;
   std::vector<std::thread> workers_;
   unsigned next_id_ = 1;

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trailscope/core/json_text.hpp"
+
 namespace trailscope::server {
 
 struct Request {
@@ -38,7 +40,7 @@ struct Response {
   const std::string& bytes() const { return shared_body ? *shared_body : body; }
   static Response json(int status, const nlohmann::json& j) {
     Response r;
-    r.status = status, r.body = j.dump();
+    r.status = status, r.body = json_text(j);
     return r;
   }
   static Response no_content() { return status_only(204); }

@@ -1,3 +1,4 @@
+#include "trailscope/core/json_text.hpp"
 #include "store/embedded_store.hpp"
 
 #include <fcntl.h>
@@ -107,7 +108,7 @@ void EmbeddedStore::write_dataset(const Dataset& ds, const fs::path& dir) {
   // The manifest is written last: a folder without it is incomplete by definition.
   const fs::path mp = dir / "manifest.json";
   std::ofstream out(mp, std::ios::trunc);
-  out << manifest.dump();
+  out << json_text(manifest);
   out.close();
   if (!out) throw io_error(mp, "write");
   fsync_path(mp);
