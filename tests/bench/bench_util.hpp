@@ -455,6 +455,29 @@ inline const std::vector<PeerLayout>& peer_layouts() {
   return l;
 }
 
+/// Fills every layout after the first (`prefix` + suffix names a table) from the first one, by
+/// INSERT … SELECT inside ClickHouse, and merges each to its final parts.
+inline void copy_to_other_layouts(ClickHouse& ch, const std::string& prefix,
+                                  const std::vector<PeerLayout>& layouts) {
+  const std::string first = prefix + layouts.at(0).suffix;
+  for (std::size_t k = 1; k < layouts.size(); ++k) {
+    const std::string t = prefix + layouts[k].suffix;
+    ch.exec("INSERT INTO " + t + " SELECT * FROM " + first);
+    ch.exec("OPTIMIZE TABLE " + t + " FINAL");
+  }
+}
+
+/// Throws unless every layout's table holds exactly `n` rows.
+inline void check_layout_counts(ClickHouse& ch, const std::string& prefix,
+                                const std::vector<PeerLayout>& layouts, std::size_t n) {
+  for (const auto& l : layouts) {
+    const std::string t = prefix + l.suffix;
+    if (ch.count(t) != n)
+      throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) +
+                               " rows, expected " + std::to_string(n));
+  }
+}
+
 /// Loads `set` into `<base>_m` and `<base>_hm` unless both already hold exactly its points (the same
 /// generator options give the same set, so a table loaded by an earlier program is reused). The data goes
 /// over HTTP as RowBinary in batches of `batch` rows (exact float bits: no text round trip), into the
@@ -525,18 +548,9 @@ inline json load_peer(ClickHouse& ch, const std::string& base, const trailscope:
   ch.exec("OPTIMIZE TABLE " + first + " FINAL");
   const double optimize_first_ms = ms_since(t0);
   t0 = Clock::now();
-  for (std::size_t k = 1; k < peer_layouts().size(); ++k) {
-    const std::string t = base + "_" + peer_layouts()[k].suffix;
-    ch.exec("INSERT INTO " + t + " SELECT * FROM " + first);
-    ch.exec("OPTIMIZE TABLE " + t + " FINAL");
-  }
+  copy_to_other_layouts(ch, base + "_", peer_layouts());
   const double copy_ms = ms_since(t0);
-  for (const auto& l : peer_layouts()) {
-    const std::string t = base + "_" + l.suffix;
-    if (ch.count(t) != n)
-      throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) +
-                               " rows, expected " + std::to_string(n));
-  }
+  check_layout_counts(ch, base + "_", peer_layouts(), n);
   rec["reused"] = false;
   rec["encode_ms"] = std::round(encode_ms);
   rec["insert_http_ms"] = std::round(send_ms);
@@ -868,18 +882,9 @@ inline json load_peer_segments(ClickHouse& ch, const std::string& base, const tr
   const double insert_ms = ms_since(t_all);
   auto t0 = Clock::now();
   ch.exec("OPTIMIZE TABLE " + first + " FINAL");
-  for (std::size_t k = 1; k < peer_seg_layouts().size(); ++k) {
-    const std::string t = base + "_seg_" + peer_seg_layouts()[k].suffix;
-    ch.exec("INSERT INTO " + t + " SELECT * FROM " + first);
-    ch.exec("OPTIMIZE TABLE " + t + " FINAL");
-  }
+  copy_to_other_layouts(ch, base + "_seg_", peer_seg_layouts());
   const double opt_ms = ms_since(t0);
-  for (const auto& l : peer_seg_layouts()) {
-    const std::string t = base + "_seg_" + l.suffix;
-    if (ch.count(t) != n)
-      throw std::runtime_error("ClickHouse table " + t + " holds " + std::to_string(ch.count(t)) +
-                               " rows, expected " + std::to_string(n));
-  }
+  check_layout_counts(ch, base + "_seg_", peer_seg_layouts(), n);
   rec["reused"] = false;
   rec["insert_total_ms"] = std::round(insert_ms);
   rec["optimize_ms"] = std::round(opt_ms);
