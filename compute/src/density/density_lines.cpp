@@ -15,6 +15,7 @@
 // sums the grids. A GPU has native atomics and the bandwidth to gain on large inputs, so `auto`
 // considers GPUs and accelerators only, from kAutoOpenClMinSegments segments (a threshold chosen
 // without a GPU measurement yet: revisit it with tests/bench on one).
+#include "trailscope/trails/point_filter.hpp"
 #include "trailscope/density/density_lines.hpp"
 
 #include <tbb/parallel_for.h>
@@ -248,8 +249,8 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
   };
 
   // Without time, altitude, ground or bbox filters every point matches: skip the per-point test.
-  const bool every_point =
-      !query.t0 && !query.t1 && !query.alt_min && !query.alt_max && !query.on_ground && !query.bbox;
+  const PointFilter matches(query);
+  const bool every_point = matches.every_point();
   // When the canvas lies within the world in x, a segment that does not cross 180° has no wrapped copy on
   // it, and the common case goes straight to prepare_one.
   const bool canvas_in_world = canvas.origin_x() >= 0 && canvas.end_x() <= kWorld;
@@ -259,10 +260,10 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
 
   auto draw_flight = [&](const Flight& f, LineSegments& out) {
     if (f.size() < 2 || !query.may_match(f) || !may_meet(f)) return;
-    bool prev_ok = every_point || query.matches_point(pts, f.begin);
+    bool prev_ok = every_point || matches(pts, f.begin);
     bool prev_drawn = false;
     for (std::uint32_t i = f.begin + 1; i < f.end; ++i) {
-      const bool ok = every_point || query.matches_point(pts, i);
+      const bool ok = every_point || matches(pts, i);
       const bool draw = ok && prev_ok && pts.t[i] - pts.t[i - 1] <= max_gap_seconds;
       if (draw) {
         const std::int64_t ax = std::int64_t{mx[i - 1]} - ox, ay = std::int64_t{my[i - 1]} - oy;

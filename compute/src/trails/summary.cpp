@@ -12,7 +12,7 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
-#include "trails/point_filter.hpp"
+#include "trailscope/trails/point_filter.hpp"
 
 namespace trailscope {
 
@@ -99,7 +99,7 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
     if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
   const std::size_t alt_bins = static_cast<std::size_t>(top_alt / alt_unit / alt_bin_w) + 1;
 
-  const detail::PointFilter filter(q);
+  const PointFilter filter(q);
   const double alt_scale = 1.0 / (alt_unit * alt_bin_w);
   const double inv_bin = 1.0 / bin;
   std::vector<std::uint32_t> matched(flights.size(), 0);
@@ -240,7 +240,7 @@ FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, s
     throw invalid_argument("page_size", "page_size must lie in 1..1000");
   const auto& pts = set.points();
   const auto& flights = set.flights();
-  const detail::PointFilter filter(q);
+  const PointFilter filter(q);
   std::vector<FlightRow> rows(flights.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, flights.size(), 16), [&](const auto& r) {
     for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
@@ -295,9 +295,10 @@ nlohmann::json flight_geojson(const TrailSet& set, std::size_t flight_id, const 
     throw not_found("flight_id", "flight " + std::to_string(flight_id) + " does not exist in this dataset");
   const Flight& f = set.flights()[flight_id];
   const auto& p = set.points();
+  const PointFilter filter(q);
   std::vector<std::size_t> keep;
   for (std::size_t i = f.begin; i < f.end; ++i)
-    if (!clip || q.matches_point(p, i)) keep.push_back(i);
+    if (!clip || filter(p, i)) keep.push_back(i);
   if (keep.size() > max_points)
     throw Error(Error::Kind::payload_too_large, "max_points",
                 "flight has " + std::to_string(keep.size()) +

@@ -4,7 +4,7 @@
 // numbers per pixel, no colour.
 //
 // WHAT IS DRAWN. Each segment between consecutive samples i, i+1 of one flight is drawn when both
-// samples pass the query (Query::matches_point) and t[i+1] − t[i] <= max_gap_seconds (default
+// samples pass the query (PointFilter) and t[i+1] − t[i] <= max_gap_seconds (default
 // limits::kFlightGapSeconds: a longer silence is a gap in coverage, not a straight flight; pass
 // +infinity for Douglas-Peucker simplified data such as SO6, whose cruise legs often last longer). A
 // segment with |Δlon| > 180° is drawn the short way, across the 180° meridian, and therefore appears on

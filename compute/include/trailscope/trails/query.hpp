@@ -30,21 +30,7 @@ struct Query {
   /// Flight-level filters (icao24, callsign) and the flight's extents against the window.
   bool may_match(const Flight& f) const;
   bool matches_flight_ids(const Flight& f) const;
-  /// Point-level filters (time, bbox, altitude, on_ground); call after may_match() for its flight.
-  bool matches_point(const PointColumns& p, std::size_t i) const {
-    const double t = p.t[i];
-    if (t0 && t < *t0) return false;
-    if (t1 && t >= *t1) return false;
-    if (alt_min || alt_max) {
-      const float a = p.alt[i];
-      if (!(a == a)) return false;  // NaN altitude is outside any band
-      if (alt_min && a < *alt_min) return false;
-      if (alt_max && a > *alt_max) return false;
-    }
-    if (on_ground && (p.on_ground[i] != 0) != *on_ground) return false;
-    if (bbox && !bbox->contains(p.lat[i], p.lon[i])) return false;
-    return true;
-  }
+  // Point-level filters (time, bbox, altitude, on_ground) are applied by PointFilter (point_filter.hpp).
   /// Canonical text of the query (sorted, normalised), used in cache keys and ETags.
   std::string canonical() const;
 };
