@@ -71,6 +71,21 @@ TEST(EmbeddedStore, InterruptedWriteLeavesNoDataset) {
   EXPECT_EQ(s.list().size(), 1u);
 }
 
+TEST(EmbeddedStore, UnreadableDatasetIsSkippedNeverDeleted) {
+  test::TempDir tmp;
+  {
+    EmbeddedStore s(tmp.path());
+    s.put(dataset("good", 10));
+    s.put(dataset("bad", 10));
+  }
+  std::ofstream(tmp.path() / "datasets" / "bad" / "t.bin", std::ios::trunc) << "short";
+  EmbeddedStore s(tmp.path());
+  EXPECT_EQ(s.get("good")->trails->num_points(), 10u);  // loaded alone, on first use
+  EXPECT_THROW(s.get("bad"), Error);
+  EXPECT_EQ(s.list().size(), 1u);
+  EXPECT_TRUE(fs::exists(tmp.path() / "datasets" / "bad" / "manifest.json"));
+}
+
 TEST(EmbeddedStore, ConflictsAndBadIds) {
   test::TempDir tmp;
   EmbeddedStore s(tmp.path());

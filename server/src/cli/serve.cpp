@@ -46,6 +46,7 @@ void add_serve(CLI::App& app) {
         (default_backend() == Backend::auto_ && opencl_info().device_type == "gpu"))
       std::thread([] { opencl_warm_up(); }).detach();
     auto store = std::make_shared<EmbeddedStore>(o->data_dir);
+    store->list();  // load every dataset now, so that no first request pays for reading one
     if (o->demo && !store->contains("demo"))
       create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);
     std::error_code ec;

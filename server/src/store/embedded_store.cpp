@@ -70,14 +70,25 @@ EmbeddedStore::EmbeddedStore(fs::path root) : root_(std::move(root)) {
   // Leftovers of interrupted writes and uploads are never part of a dataset.
   for (const char* sub : {"tmp", "uploads"})
     for (const auto& e : fs::directory_iterator(root_ / sub)) fs::remove_all(e.path(), ec);
-  for (const auto& e : fs::directory_iterator(root_ / "datasets")) {
-    if (!e.is_directory()) continue;
-    try {
-      auto ds = read_dataset(e.path());
-      datasets_[ds->id] = std::move(ds);
-    } catch (const std::exception& ex) {
-      std::cerr << "store: skipping " << e.path() << ": " << ex.what() << "\n";
-    }
+  // Only complete datasets (their manifest is written last) are known; their columns are read when
+  // first asked for, so a CLI query of one dataset does not read every other one.
+  for (const auto& e : fs::directory_iterator(root_ / "datasets"))
+    if (e.is_directory() && fs::exists(e.path() / "manifest.json", ec))
+      datasets_[e.path().filename().string()] = nullptr;
+}
+
+std::shared_ptr<const Dataset> EmbeddedStore::load_locked(const std::string& id) const {
+  auto it = datasets_.find(id);
+  if (it == datasets_.end()) return nullptr;
+  if (it->second) return it->second;
+  try {
+    it->second = read_dataset(root_ / "datasets" / id);
+    return it->second;
+  } catch (const std::exception& ex) {
+    // Unreadable on disk: reported and forgotten for this run, never deleted.
+    std::cerr << "store: skipping dataset '" << id << "': " << ex.what() << "\n";
+    datasets_.erase(it);
+    return nullptr;
   }
 }
 
@@ -156,16 +167,18 @@ std::shared_ptr<Dataset> EmbeddedStore::read_dataset(const fs::path& dir) {
 
 std::vector<std::shared_ptr<const Dataset>> EmbeddedStore::list() const {
   std::lock_guard lock(mu_);
+  std::vector<std::string> ids;
+  for (const auto& [id, ds] : datasets_) ids.push_back(id);
   std::vector<std::shared_ptr<const Dataset>> out;
-  for (const auto& [id, ds] : datasets_) out.push_back(ds);
+  for (const auto& id : ids)
+    if (auto ds = load_locked(id)) out.push_back(std::move(ds));
   return out;
 }
 
 std::shared_ptr<const Dataset> EmbeddedStore::get(const std::string& id) const {
   std::lock_guard lock(mu_);
-  auto it = datasets_.find(id);
-  if (it == datasets_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
-  return it->second;
+  if (auto ds = load_locked(id)) return ds;
+  throw not_found("dataset", "dataset '" + id + "' does not exist");
 }
 
 bool EmbeddedStore::contains(const std::string& id) const {

@@ -2,7 +2,7 @@
 // The embedded store: every dataset is a folder of column files under <root>/datasets/<id>/, written
 // into <root>/tmp/ first and renamed into place, so a dataset appears whole or not at all: a crash or a
 // kill mid-write leaves only a temporary folder, removed at the next start. All datasets are loaded into
-// memory at start (columnar TrailSets); reads never touch the disk.
+// memory (columnar TrailSets) the first time they are asked for; later reads never touch the disk.
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -13,9 +13,10 @@ namespace trailscope::server {
 
 class EmbeddedStore final : public DatasetStore {
  public:
-  /// Opens (creating if needed) the store at `root`, removes leftovers of interrupted writes and loads
-  /// every complete dataset. A dataset folder that fails to load is reported on stderr and skipped, never
-  /// deleted. Throws Error(internal) when `root` cannot be created.
+  /// Opens (creating if needed) the store at `root`, removes leftovers of interrupted writes and notes
+  /// every complete dataset; each is loaded on first get() (list() loads all). A dataset folder that
+  /// fails to load is reported on stderr and skipped, never deleted. Throws Error(internal) when `root`
+  /// cannot be created.
   explicit EmbeddedStore(std::filesystem::path root);
 
   std::vector<std::shared_ptr<const Dataset>> list() const override;
@@ -34,8 +35,12 @@ class EmbeddedStore final : public DatasetStore {
 
  private:
   std::filesystem::path root_;
+  /// Reads dataset `id` if it is known but not loaded yet; nullptr when unknown or unreadable. Needs mu_.
+  std::shared_ptr<const Dataset> load_locked(const std::string& id) const;
+
   mutable std::mutex mu_;
-  std::map<std::string, std::shared_ptr<const Dataset>> datasets_;
+  /// Every known dataset; nullptr until loaded.
+  mutable std::map<std::string, std::shared_ptr<const Dataset>> datasets_;
 };
 
 }  // namespace trailscope::server
