@@ -132,12 +132,12 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     bool keep_alive = h.keep_alive();
     fs::path file;
     try {
-      const std::uint64_t limit = is_upload(h) ? limits::kMaxUploadBytes : limits::kMaxRequestBodyBytes;
+      const bool upload = is_upload(h);
+      const std::uint64_t limit = upload ? limits::kMaxUploadBytes : limits::kMaxRequestBodyBytes;
       if (head.content_length() && *head.content_length() > limit)
-        throw Error(
-            Error::Kind::payload_too_large, "body",
-            is_upload(h) ? "upload exceeds the limit of 2 GiB" : "request body exceeds the limit of 1 MiB");
-      if (is_upload(h)) {
+        throw Error(Error::Kind::payload_too_large, "body",
+                    upload ? "upload exceeds the limit of 2 GiB" : "request body exceeds the limit of 1 MiB");
+      if (upload) {
         // Uploads stream to disk with their own limit and timeout; memory stays flat.
         file = upload_path(upload_dir);
         http::request_parser<http::file_body> p{std::move(head)};
