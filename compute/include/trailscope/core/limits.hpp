@@ -58,4 +58,18 @@ inline constexpr double kFlightGapSeconds = 1800.0;
 /// Rejected rows whose line and reason are kept in an ingest report (all are counted).
 inline constexpr std::size_t kMaxReportedRejects = 1000;
 
+// --- bundling ----------------------------------------------------------------------------------------
+/// Most polylines (edges or trails) one bundling takes.
+inline constexpr std::size_t kMaxBundleEdges = 2'000'000;
+/// Most input points of the polylines of one bundling (before resampling).
+inline constexpr std::size_t kMaxBundleInputPoints = 50'000'000;
+/// Most points after resampling (what the device holds: ~20 bytes each, twice).
+inline constexpr std::size_t kMaxBundlePoints = 64'000'000;
+/// Largest graph upload, POST /api/v1/graphs (bytes).
+inline constexpr std::uint64_t kMaxGraphUploadBytes = 256ull << 20;
+/// Bundles the server keeps (the oldest is deleted beyond this).
+inline constexpr std::size_t kMaxStoredBundles = 100;
+/// Largest rendered bundle image edge (pixels).
+inline constexpr int kMaxBundleImagePx = 8192;
+
 }  // namespace trailscope::limits

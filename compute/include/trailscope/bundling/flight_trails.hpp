@@ -1,0 +1,27 @@
+#pragma once
+// Flight trails as polylines to bundle: the trails of a stored dataset under an airspace time-window
+// query, in Web Mercator, split where the data has gaps, so that a bundled map lines up with the basemap.
+#include <cstddef>
+
+#include "trailscope/bundling/bundle.hpp"
+#include "trailscope/bundling/polylines.hpp"
+#include "trailscope/trails/query.hpp"
+#include "trailscope/trails/trail_set.hpp"
+
+namespace trailscope::bundling {
+
+struct FlightTrails {
+  Polylines lines;  ///< 32-bit Web Mercator units (geo/web_mercator.hpp), as doubles
+  std::vector<std::size_t> flight;  ///< per polyline, the index of its flight in the TrailSet
+  Frame frame;      ///< the view: the query's bbox (or the data's extent) onto `size` pixels
+};
+
+/// The runs of consecutive matching points (PointFilter) of every flight of `trails` under `query`,
+/// split where consecutive samples are more than `max_gap_seconds` apart (+infinity: never), runs of
+/// fewer than 2 points dropped, and the frame of the view: the query's bbox when it has one, else the
+/// extent of the matching points. Throws Error(unprocessable, `query`) when no trail matches, and
+/// Error(payload_too_large, `query`) beyond limits::kMaxBundleEdges trails or kMaxBundleInputPoints
+/// points.
+FlightTrails flight_trails(const TrailSet& trails, const Query& query, int size, double max_gap_seconds);
+
+}  // namespace trailscope::bundling
