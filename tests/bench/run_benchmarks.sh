@@ -35,8 +35,10 @@ REPORT=${BENCH_REPORT:-BENCHMARKS.md}
 [ "${BENCH_QUICK:-0}" = 1 ] && [ -z "${BENCH_REPORT:-}" ] && REPORT=tests/bench/out/BENCHMARKS.quick.md
 SO6=${BENCH_SO6:-$ROOT/../shared/data/flights/traffic_europe_20180101_m3.so6.gz}
 SUM_REPS=30 CH_REPS=10 TILE_REPS=15 INGEST_REPS=3 SO6_REPS=5 WRK_SECONDS=5
+BUNDLE_REPS=15 BUNDLE_REF_REPS=5 BUNDLE_BIG_REPS=3 BUNDLE_1M=1
 if [ "${BENCH_QUICK:-0}" = 1 ]; then
   SUM_REPS=5 CH_REPS=2 TILE_REPS=3 INGEST_REPS=1 SO6_REPS=2 WRK_SECONDS=2
+  BUNDLE_REPS=3 BUNDLE_REF_REPS=1 BUNDLE_BIG_REPS=1 BUNDLE_1M=0
   CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-600} FLIGHTS=${BENCH_FLIGHTS:-1500}
 fi
 
@@ -134,7 +136,7 @@ if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
 fi
 grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$BUILD_DIR/CMakeCache.txt" ||
   echo "WARNING: $BUILD_DIR is not a Release build; the numbers will not mean much" | tee -a "$LOG" >&2
-cmake --build "$BUILD_DIR" -j "$(nproc)" --target trailscope ingest_bench summary_bench tile_bench http_bench bench_report \
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target trailscope ingest_bench summary_bench tile_bench http_bench bundle_bench bench_report \
   2>&1 | tail -n 5 | tee -a "$LOG" >&2
 BIN=$ROOT/$BUILD_DIR/server/trailscope
 B=$ROOT/$BUILD_DIR/tests/bench
@@ -211,8 +213,21 @@ if [ "$CH_STARTED" = 1 ]; then
 fi
 
 # ---------------------------------------------------------------------------------------------------
+say "5. CUBu bundling (default parameters: 512 px, h = 32, 15 iterations)"
+BD=$ROOT/../shared/data/bundling
+run "$B/bundle_bench" --graph "$BD/classic/airlines.xml" --label us_airlines --reps "$BUNDLE_REPS" --ref-reps "$BUNDLE_REF_REPS"
+run "$B/bundle_bench" --graph "$BD/classic/migrations.xml" --label us_migrations --reps "$BUNDLE_REPS" --ref-reps "$BUNDLE_REF_REPS"
+run "$B/bundle_bench" --graph "$BD/epb/airtraffic.json" --label air_traffic --reps "$BUNDLE_BIG_REPS" --ref-reps 1
+run "$B/bundle_bench" --graph "$BD/cubu/us_counties_lsp.trl" --label us_counties_lsp --reps "$BUNDLE_BIG_REPS" --ref-reps 1
+run "$B/bundle_bench" --so6 "$SO6" --label europe_so6_trails --reps "$BUNDLE_BIG_REPS" --ref-reps 1
+run "$B/bundle_bench" --random-edges 100000 --label generated_100k --reps "$BUNDLE_BIG_REPS" --ref-reps 1
+if [ "$BUNDLE_1M" = 1 ]; then
+  run "$B/bundle_bench" --random-edges 1000000 --label generated_1m --reps 1 --ref-reps 1
+fi
+
+# ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)
-say "5. the server over loopback (127.0.0.1:$PORT)"
+say "6. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"
 run_log "$BIN" ingest "$SO6" --data-dir "$DATA_DIR" --name europe --quiet
 run_log "$BIN" demo --data-dir "$DATA_DIR" --flights "$FLIGHTS" --name demo

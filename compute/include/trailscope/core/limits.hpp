@@ -72,4 +72,37 @@ inline constexpr std::size_t kMaxStoredBundles = 100;
 /// Largest rendered bundle image edge (pixels).
 inline constexpr int kMaxBundleImagePx = 8192;
 
+// --- tracker metrics (MOTChallenge text files) -----------------------------------------------------
+/// Largest ground-truth or tracker-run text file one evaluation reads (bytes). MOT17's biggest result
+/// file is about 5 MB; this leaves room for long teat-tracker logs without letting one request exhaust
+/// memory (each row costs ~80 bytes once parsed).
+inline constexpr std::uint64_t kMaxRunBytes = 256ull << 20;  // 256 MiB
+/// Most data rows in one ground-truth or run file.
+inline constexpr std::size_t kMaxRunRows = 5'000'000;
+/// Largest frame number a row may carry; frames are 1-based and every frame up to the last costs a
+/// little memory even when empty.
+inline constexpr std::int64_t kMaxRunFrames = 1'000'000;
+/// Most objects (rows) of one file in one frame: similarity is computed for every ground-truth/run pair
+/// and the per-frame assignment is O(n^3) in the worst case, so this bounds the work per frame (MOT20,
+/// the densest benchmark, has about 250).
+inline constexpr std::size_t kMaxObjectsPerFrame = 1000;
+/// Most distinct object ids in one file. The identity (IDF1) assignment is dense over the ids of each
+/// connected group of overlapping tracks, so this bounds its memory (8 bytes per id pair) and time.
+inline constexpr std::size_t kMaxTrackIds = 10000;
+
+// --- tracker (depth videos, synthetic ToF camera) ----------------------------------------------------
+/// Most frames of one depth video: an hour at 25 fps with room to spare (the teat-tracker paper's
+/// real-life videos are "several minutes each"). Bounds the manifest and every per-frame array.
+inline constexpr std::size_t kMaxVideoFrames = 100'000;
+/// Most pixels of one depth frame: 1024 x 1024 holds the 176x144 ToF imagers, Kinect v2 (512x424) and
+/// the 640x480 structured-light frames.
+inline constexpr std::size_t kMaxVideoPixels = 1u << 20;
+/// Largest depth-video upload (a pack file, bytes); the same bound as dataset uploads.
+inline constexpr std::uint64_t kMaxVideoUploadBytes = 2ull << 30;  // 2 GiB
+/// Largest manifest.json (bytes): ~700 bytes a frame with ground truth, so 64 MiB covers kMaxVideoFrames.
+inline constexpr std::uint64_t kMaxVideoManifestBytes = 64ull << 20;
+/// Most memory one whole-video load may take (frames * pixels * 8 bytes of float depth + amplitude);
+/// longer videos are read frame by frame (DepthVideoReader).
+inline constexpr std::uint64_t kMaxVideoLoadBytes = 4ull << 30;  // 4 GiB
+
 }  // namespace trailscope::limits
