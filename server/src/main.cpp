@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   trailscope::cli::add_query(app);
   trailscope::cli::add_tile(app);
   trailscope::cli::add_demo(app);
+  trailscope::cli::add_bundle(app);
+  trailscope::cli::add_metrics(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

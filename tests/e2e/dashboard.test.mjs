@@ -90,7 +90,7 @@ page.on('console', (m) => {
 page.on('pageerror', (e) => consoleErrors.push(`pageerror: ${e.message}`));
 
 const sel = (id) => `[data-testid="${id}"]`;
-const state = { query: '', row: null };
+const state = { query: '', row: null, bundle: null };
 
 console.log(`TrailScope dashboard test against ${BASE_URL}`);
 
@@ -220,6 +220,163 @@ await test('the flight list follows the filters; clicking a flight draws its tra
   });
   assert(rendered > 0, `the track layer shows on the map (${rendered} rendered segments)`);
   state.row = { id, callsign };
+});
+
+// ---------- bundling ----------
+// Frankfurt airport: many trails of the window start or end there, and bundling keeps endpoints fixed,
+// so the bundled tiles and the client-side overlay must both draw at its pixel if they are georeferenced
+// like the basemap.
+const FRA = [8.5706, 50.0333];
+const bundlePanel = '#bundle-section';
+
+await test('bundle this window: progress over the WebSocket reaches done', async () => {
+  // The whole altitude range (trails reach the airports) in a view around Frankfurt, no flight selected.
+  await page.keyboard.press('Escape');
+  await page.fill(sel('alt-min'), '');
+  await page.fill(sel('alt-max'), '');
+  await page.press(sel('alt-max'), 'Enter');
+  await page.locator(sel('alt-max')).blur();
+  await page.evaluate(([lng, lat]) => window.trailscope.map.jumpTo({ center: [lng, lat], zoom: 5 }), FRA);
+  await page.waitForFunction(() => {
+    const s = document.querySelector('[data-testid="summary"]');
+    const q = new URLSearchParams(s?.dataset.query ?? '');
+    return s?.dataset.state === 'ready' && !q.has('alt_min') && q.has('t0');
+  });
+  await page.waitForSelector(`${sel('bundle-param-iterations')}`);
+  await page.fill(sel('bundle-param-iterations'), '10');
+  // Record every state and progress value the panel shows (they come from WebSocket job events).
+  await page.evaluate((panel) => {
+    const el = document.querySelector(panel);
+    window.__bundleSeen = [];
+    new MutationObserver(() => {
+      const bar = el.querySelector('[data-testid="bundle-progress"]');
+      window.__bundleSeen.push({ state: el.dataset.state, pct: Number(bar?.getAttribute('aria-valuenow') ?? -1) });
+    }).observe(el, { subtree: true, attributes: true, childList: true });
+  }, bundlePanel);
+  await page.click(sel('bundle-start'));
+  await page.waitForFunction((panel) => {
+    const el = document.querySelector(panel);
+    return el?.dataset.state === 'done' && el.dataset.bundle && el.dataset.mode === 'bundled';
+  }, bundlePanel, { timeout: 120_000 });
+  const seen = await page.evaluate(() => window.__bundleSeen);
+  assert(seen.some((s) => s.state === 'queued' || s.state === 'running'), `the job was seen before it ended: ${JSON.stringify(seen.slice(0, 5))}`);
+  const last = seen[seen.length - 1];
+  assertEqual(last.pct, 100, 'progress at the end');
+  const pcts = seen.filter((s) => s.state === 'running').map((s) => s.pct);
+  assert(pcts.every((p, i) => i === 0 || p >= pcts[i - 1]), `progress never goes back: ${pcts.join(',')}`);
+  const id = await page.getAttribute(bundlePanel, 'data-bundle');
+  const meta = await (await fetch(`${BASE_URL}/api/v1/bundles/${id}`)).json();
+  assertEqual(meta.source.dataset, DATASET, 'the bundle is of the data set');
+  assert(meta.polylines > 100, `the window holds trails (${meta.polylines})`);
+  assertEqual(meta.params.iterations, '10', 'the panel sent its parameter');
+  const ink = await page.textContent(sel('bundle-ink'));
+  assertEqual(ink, `${(100 * meta.quality.ink_reduction).toFixed(1)} %`, 'ink reduction shown');
+  state.bundle = meta;
+  console.log(`        ${meta.polylines} trails, ${meta.points} points, ink −${ink}, ${meta.times_ms.total.toFixed(0)} ms on ${meta.path}`);
+});
+
+/** Alpha values in a (2r+1)² window of the overlay canvas around a lon/lat. */
+async function overlayAlphaAt(lngLat, r = 3) {
+  return page.evaluate(
+    ([ll, rad]) => {
+      const c = document.querySelector('[data-testid="bundle-overlay"]');
+      const p = window.trailscope.map.project(ll);
+      const dpr = window.devicePixelRatio || 1;
+      const d = c.getContext('2d').getImageData(Math.round(p.x * dpr) - rad, Math.round(p.y * dpr) - rad, 2 * rad + 1, 2 * rad + 1).data;
+      let max = 0;
+      for (let i = 3; i < d.length; i += 4) max = Math.max(max, d[i]);
+      return max;
+    },
+    [lngLat, r],
+  );
+}
+
+await test('bundled tiles and overlay line up with the basemap (Frankfurt airport pixel)', async () => {
+  await page.waitForFunction(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    return m?.dataset.idle === 'true' && m.dataset.bundleLoaded === 'true' && m.dataset.densityShown === 'false';
+  });
+  const template = await page.getAttribute(sel('map'), 'data-bundle-template');
+  assert(template.includes(`/tiles/${DATASET}/bundle/${state.bundle.id}/{z}/{x}/{y}.png`), `bundle tiles shown: ${template}`);
+  const current = tileResponses.filter((r) => r.url.includes(`/bundle/${state.bundle.id}/`));
+  assert(current.length > 0 && current.every((r) => r.status === 200 || r.status === 304), `bundle tiles load: ${current.map((r) => r.status).join(',')}`);
+  // The tile holding the airport, fetched as the map does, has ink at the airport's pixel.
+  const z = 5;
+  const n = 2 ** z;
+  const fx = ((FRA[0] + 180) / 360) * n;
+  const fy = ((1 - Math.asinh(Math.tan((FRA[1] * Math.PI) / 180)) / Math.PI) / 2) * n;
+  const url = template.replace('{z}', z).replace('{x}', Math.floor(fx)).replace('{y}', Math.floor(fy));
+  const tileAlpha = await page.evaluate(
+    async ([u, px, py]) => {
+      const img = await createImageBitmap(await (await fetch(u)).blob());
+      const c = new OffscreenCanvas(img.width, img.height);
+      const ctx = c.getContext('2d');
+      ctx.drawImage(img, 0, 0);
+      const d = ctx.getImageData(Math.round(px) - 2, Math.round(py) - 2, 5, 5).data;
+      let max = 0;
+      for (let i = 3; i < d.length; i += 4) max = Math.max(max, d[i]);
+      return max;
+    },
+    [url, (fx % 1) * 256, (fy % 1) * 256],
+  );
+  assert(tileAlpha > 0, `the bundle tile draws at Frankfurt airport (alpha ${tileAlpha})`);
+  assertEqual(await page.getAttribute(sel('bundle-overlay'), 'data-drawn'), 'true', 'the overlay is drawn');
+  const overlayAlpha = await overlayAlphaAt(FRA);
+  assert(overlayAlpha > 0, `the overlay draws at Frankfurt airport (alpha ${overlayAlpha})`);
+});
+
+await test('raw/bundled toggle and the relaxation slider (no recomputation)', async () => {
+  const jobsBefore = (await (await fetch(`${BASE_URL}/api/v1/jobs`)).json()).jobs.length;
+  const polylineRequests = () => requests.filter((u) => u.includes('/polylines')).length;
+  const fetchedBefore = polylineRequests();
+  await page.click('label[for="bundle-mode-raw"]');
+  await page.waitForFunction(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    const o = document.querySelector('[data-testid="bundle-overlay"]');
+    return m.dataset.densityShown === 'true' && m.dataset.bundleTemplate === '' && o.dataset.drawn === 'false';
+  });
+  await page.click('label[for="bundle-mode-bundled"]');
+  await page.waitForFunction(() => document.querySelector('[data-testid="bundle-overlay"]')?.dataset.drawn === 'true');
+  const pixels = () =>
+    page.evaluate(() => {
+      const c = document.querySelector('[data-testid="bundle-overlay"]');
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let h = 0;
+      for (let i = 3; i < d.length; i += 4 * 7) h = (h * 31 + d[i]) >>> 0;
+      return h;
+    });
+  const bundled = await pixels();
+  for (const v of ['0.5', '1']) {
+    await page.evaluate((val) => {
+      const s = document.querySelector('[data-testid="bundle-relaxation"]');
+      s.value = val;
+      s.dispatchEvent(new Event('input', { bubbles: true }));
+    }, v);
+    await page.waitForFunction((val) => document.querySelector('[data-testid="bundle-overlay"]')?.dataset.relaxation === Number(val).toFixed(2), v);
+  }
+  const raw = await pixels();
+  assert(raw !== bundled, 'the overlay moved with the slider');
+  // Relaxed fully, the trails are the raw ones: still through the airport.
+  assert((await overlayAlphaAt(FRA)) > 0, 'the relaxed overlay still reaches Frankfurt');
+  // The tiles follow once the slider rests, with the same bundle (a new render, not a new bundling).
+  await page.waitForFunction(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    return m.dataset.bundleTemplate.includes('relaxation=1.00') && m.dataset.idle === 'true' && m.dataset.bundleLoaded === 'true';
+  });
+  const jobsAfter = (await (await fetch(`${BASE_URL}/api/v1/jobs`)).json()).jobs.length;
+  assertEqual(jobsAfter, jobsBefore, 'no new job for the slider');
+  assertEqual(polylineRequests(), fetchedBefore, 'the polylines were fetched once');
+  await page.evaluate(() => {
+    const s = document.querySelector('[data-testid="bundle-relaxation"]');
+    s.value = '0.3';
+    s.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  await page.waitForFunction(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    return m.dataset.bundleTemplate.includes('relaxation=0.30') && m.dataset.idle === 'true' && m.dataset.bundleLoaded === 'true';
+  });
+  await page.mouse.move(5, 5);
+  await page.screenshot({ path: path.join(ARTIFACTS, 'bundling.png') });
 });
 
 await test('no request went to a non-loopback host', async () => {

@@ -63,10 +63,33 @@ check "oversized upload refused" 413 "$(curl -s -o "$TMP/e.json" -w '%{http_code
 check "oversized upload param" body "$(json 'd["param"]' < "$TMP/e.json")"
 check "malformed request target" 400 "$(curl -s -g -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets?a=%zz")"
 
+# Bundling: a streamed graph upload, its size limit, a bundle job of it and its image.
+AIRLINES="$SHARED/data/bundling/classic/airlines.xml"
+graph=$(curl -s --data-binary @"$AIRLINES" "$URL/api/v1/graphs?name=airlines")
+check "graph upload: edges" 2101 "$(echo "$graph" | json 'd["edges"]')"
+check "oversized graph upload refused" 413 "$(curl -s -o "$TMP/e.json" -w '%{http_code}' -H 'Content-Length: 300000000' --data-binary 'x' "$URL/api/v1/graphs")"
+check "oversized graph upload detail" "graph upload exceeds the limit of 256 MiB" "$(json 'd["detail"]' < "$TMP/e.json")"
+gid=$(echo "$graph" | json 'd["id"]')
+accepted=$(curl -s -H 'Content-Type: application/json' -d '{"source":{"graph":"'"$gid"'"},"params":{"size":256,"iterations":5},"backend":"cpu"}' "$URL/api/v1/bundles")
+bundle=$(echo "$accepted" | json 'd["bundle"]')
+check "bundle job ends done" done "$(wait_job "$(echo "$accepted" | json 'd["job"]["id"]')")"
+check "bundle image" 200 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/bundles/$bundle/image.png?width=256")"
+
+# The CLI verb: an image and the figures as JSON; bad input is exit 2 with the parameter named.
+"$BIN" bundle "$AIRLINES" -o "$TMP/air.png" --polylines "$TMP/air.bin" --size 256 --iterations 5 --backend cpu --json --quiet > "$TMP/b.json"
+check "cli bundle: polylines" 2101 "$(json 'd["polylines"]' < "$TMP/b.json")"
+check "cli bundle: png magic" PNG "$(head -c 4 "$TMP/air.png" | tail -c 3)"
+check "cli bundle: TSBL magic" TSBL "$(head -c 4 "$TMP/air.bin")"
+"$BIN" bundle "$AIRLINES" -o "$TMP/x.png" --h 1 2> "$TMP/err.txt"
+check "cli bad parameter exits 2" 2 "$?"
+check "cli names the parameter" "trailscope: h must be in [2, 128] px (got 1)" "$(cat "$TMP/err.txt")"
+
 # Restart: the dataset is back.
 stop
 start
 check "dataset survives restart" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
+check "bundle survives restart" 2101 "$(curl -s "$URL/api/v1/bundles/$bundle" | json 'd["polylines"]')"
+check "graph survives restart" 2101 "$(curl -s "$URL/api/v1/graphs/$gid" | json 'd["edges"]')"
 
 # Kill -9 in the middle of an ingest: nothing half-written appears, nothing stored is lost.
 zcat "$SO6" > "$TMP/big.so6"; for _ in 1 2 3 4 5 6 7; do zcat "$SO6" | sed 's/ 180101 180101 / 180102 180102 /' >> "$TMP/big.so6"; done

@@ -72,6 +72,12 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxKernelRadiusPx", L::kMaxKernelRadiusPx},
       {"kTileCacheBytes", double(L::kTileCacheBytes)},
       {"kFlightGapSeconds", L::kFlightGapSeconds},
+      {"kMaxBundleEdges", double(L::kMaxBundleEdges)},
+      {"kMaxBundleInputPoints", double(L::kMaxBundleInputPoints)},
+      {"kMaxBundlePoints", double(L::kMaxBundlePoints)},
+      {"kMaxGraphUploadBytes", double(L::kMaxGraphUploadBytes)},
+      {"kMaxStoredBundles", double(L::kMaxStoredBundles)},
+      {"kMaxBundleImagePx", L::kMaxBundleImagePx},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

@@ -15,13 +15,23 @@ class RouteFixture : public ::testing::Test {
   void open(std::shared_ptr<Dataset> ds) {
     store = std::make_shared<EmbeddedStore>(tmp.path() / "store");
     store->put(std::move(ds));
-    app = std::make_unique<App>(store, store->upload_dir(), std::filesystem::path(), limits::kTileCacheBytes);
+    app = std::make_unique<App>(store, store->upload_dir(), std::filesystem::path(), limits::kTileCacheBytes,
+                                tmp.path() / "store");
     router = make_router(*app);
   }
   Response get(const std::string& path, std::map<std::string, std::string> query = {},
                std::map<std::string, std::string> headers = {}) {
     Request r;
     r.method = "GET", r.path = path, r.query = std::move(query), r.headers = std::move(headers);
+    return router.handle(r);
+  }
+  /// A request with a body (POST, DELETE, ...).
+  Response send(const std::string& method, const std::string& path, std::string body = {},
+                std::map<std::string, std::string> query = {},
+                std::map<std::string, std::string> headers = {}) {
+    Request r;
+    r.method = method, r.path = path, r.body = std::move(body), r.query = std::move(query);
+    r.headers = std::move(headers);
     return router.handle(r);
   }
   static nlohmann::json body(const Response& r) { return nlohmann::json::parse(r.body); }

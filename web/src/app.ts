@@ -11,6 +11,8 @@ import { ErrorSlots } from './views/errors';
 import { FlightCard } from './views/flightCard';
 import { FlightList } from './views/flights';
 import { JobsView } from './views/jobs';
+import { BundlePanel } from './views/bundlePanel';
+import { BundleOverlay } from './render/bundleOverlay';
 import { MapView } from './views/map';
 import { SummaryView } from './views/summary';
 import { TimeBrush } from './views/timeBrush';
@@ -64,6 +66,7 @@ export class App {
   private readonly flights: FlightList;
   private readonly card: FlightCard;
   private readonly jobs: JobsView;
+  private readonly bundles: BundlePanel;
   private readonly summaryCh = new Channel();
   private readonly histCh = new Channel();
   private readonly flightsCh = new Channel();
@@ -118,6 +121,7 @@ export class App {
       onUploadError: (err) => this.errors.show('upload', err),
     });
     this.errors.register(['name', 'format'], byId('upload-error'));
+    this.bundles = new BundlePanel(byId('bundle-section'), this.store, this.map, new BundleOverlay(this.map.map), this.errors);
 
     this.store.subscribe((s, prev) => this.onState(s, prev));
     window.addEventListener('keydown', (e) => {
@@ -130,7 +134,10 @@ export class App {
     void this.loadHealth();
     void this.loadDatasets(extra.datasetId);
     const socket = new JobSocket({
-      onJob: (job) => this.jobs.update(job),
+      onJob: (job) => {
+        this.jobs.update(job);
+        this.bundles.update(job);
+      },
       onState: (st) => {
         this.jobs.setSocketOpen(st === 'open');
         const dot = byId('ws-status');
@@ -219,6 +226,8 @@ export class App {
   }
 
   private onJobDone(job: Job, mine: boolean) {
+    // Only ingest jobs add data sets; a bundle job's result is the bundling panel's business.
+    if (job.kind === 'bundle') return;
     if (job.state === 'done') void this.loadDatasets(mine ? job.dataset : undefined);
     else if (mine && job.state === 'failed' && job.error) {
       this.errors.show('upload', new ApiError(400, { error: job.error.error, detail: `Ingest of ${job.dataset} failed: ${job.error.detail}`, param: 'name' }));

@@ -13,6 +13,8 @@ void add_ingest(CLI::App& app);
 void add_query(CLI::App& app);
 void add_tile(CLI::App& app);
 void add_demo(CLI::App& app);
+void add_bundle(CLI::App& app);
+void add_metrics(CLI::App& app);
 
 /// The airspace-window filters shared by `query` and `tile` (--bbox --t0 --t1 --alt-min --alt-max
 /// --alt-unit --icao24 --callsign --on-ground), collected as the REST API's parameter map so that

@@ -57,7 +57,7 @@ void add_serve(CLI::App& app) {
     }
     // The hub outlives the app: jobs still finishing while the app shuts down announce their end to it.
     WsHub hub;
-    App app(store, store->upload_dir(), web, limits::kTileCacheBytes);
+    App app(store, store->upload_dir(), web, limits::kTileCacheBytes, store->root());
     app.jobs.add_listener([&hub](const JobState& s) {
       hub.broadcast(json_text({{"type", "job"}, {"job", s.to_json()}}));
     });

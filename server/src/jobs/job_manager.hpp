@@ -21,11 +21,11 @@ namespace trailscope::server {
 
 struct JobState {
   std::string id;       ///< "j1", "j2", ...
-  std::string kind;     ///< "ingest"
+  std::string kind;     ///< "ingest", "bundle"
   std::string state;    ///< queued | running | done | failed | cancelled
   double progress = 0;  ///< [0, 1]
   std::string stage;
-  std::string dataset;    ///< the dataset the job creates or reads
+  std::string dataset;  ///< the dataset the job creates or reads (a bundle job: its source, dataset or graph)
   nlohmann::json result;  ///< on done
   nlohmann::json error;   ///< {"error","detail","param"} on failed
   nlohmann::json to_json() const;

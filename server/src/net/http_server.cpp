@@ -33,9 +33,27 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool is_upload(const http::request_header<>& h) {
-  return h.method() == http::verb::post && h.target().starts_with("/api/v1/datasets") &&
-         (h.target().size() == 16 || h.target()[16] == '?');
+// The routes whose body is streamed to a file rather than held in memory, with their size limits and
+// the noun their errors use: dataset uploads (kMaxUploadBytes) and graph uploads (kMaxGraphUploadBytes).
+struct UploadRoute {
+  std::uint64_t limit = 0;  ///< 0 = not an upload
+  const char* what = "";
+};
+UploadRoute upload_route(const http::request_header<>& h) {
+  if (h.method() != http::verb::post) return {};
+  const auto is = [&](std::string_view path) {
+    const auto t = h.target();
+    return t.starts_with(path) && (t.size() == path.size() || t[path.size()] == '?');
+  };
+  if (is("/api/v1/datasets")) return {limits::kMaxUploadBytes, "upload"};
+  if (is("/api/v1/graphs")) return {limits::kMaxGraphUploadBytes, "graph upload"};
+  return {};
+}
+
+// "2 GiB", "256 MiB": the limit as the error detail names it.
+std::string size_text(std::uint64_t bytes) {
+  if (bytes >= (1ull << 30) && bytes % (1ull << 30) == 0) return std::to_string(bytes >> 30) + " GiB";
+  return std::to_string(bytes >> 20) + " MiB";
 }
 
 // Turns Beast's header + body into the router's Request; a malformed target is a 400 via the table.
@@ -132,23 +150,24 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     bool keep_alive = h.keep_alive();
     fs::path file;
     try {
-      const bool upload = is_upload(h);
-      const std::uint64_t limit = upload ? limits::kMaxUploadBytes : limits::kMaxRequestBodyBytes;
+      const UploadRoute route = upload_route(h);
+      const bool upload = route.limit > 0;
+      const std::uint64_t limit = upload ? route.limit : limits::kMaxRequestBodyBytes;
+      const std::string too_large =
+          std::string(upload ? route.what : "request body") + " exceeds the limit of " + size_text(limit);
       if (head.content_length() && *head.content_length() > limit)
-        throw Error(Error::Kind::payload_too_large, "body",
-                    upload ? "upload exceeds the limit of 2 GiB" : "request body exceeds the limit of 1 MiB");
+        throw Error(Error::Kind::payload_too_large, "body", too_large);
       if (upload) {
         // Uploads stream to disk with their own limit and timeout; memory stays flat.
         file = upload_path(upload_dir);
         http::request_parser<http::file_body> p{std::move(head)};
-        p.body_limit(limits::kMaxUploadBytes);
+        p.body_limit(limit);
         p.get().body().open(file.c_str(), beast::file_mode::write, ec);
         if (ec) throw Error(Error::Kind::internal, "", "cannot open upload file: " + ec.message());
         stream.expires_after(std::chrono::seconds(limits::kUploadTimeoutSeconds));
         co_await http::async_read(stream, buffer, p, net::redirect_error(net::use_awaitable, ec));
         p.get().body().close();
-        if (ec == http::error::body_limit)
-          throw Error(Error::Kind::payload_too_large, "body", "upload exceeds the limit of 2 GiB");
+        if (ec == http::error::body_limit) throw Error(Error::Kind::payload_too_large, "body", too_large);
         if (ec) throw beast::system_error(ec);
         res = router.handle(to_request(p.get(), {}, file));
         if (res.status >= 400) fs::remove(file, ec);  // the handler did not take it
@@ -157,8 +176,7 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
         http::request_parser<http::string_body> p{std::move(head)};
         p.body_limit(limits::kMaxRequestBodyBytes);
         co_await http::async_read(stream, buffer, p, net::redirect_error(net::use_awaitable, ec));
-        if (ec == http::error::body_limit)
-          throw Error(Error::Kind::payload_too_large, "body", "request body exceeds the limit of 1 MiB");
+        if (ec == http::error::body_limit) throw Error(Error::Kind::payload_too_large, "body", too_large);
         if (ec) throw beast::system_error(ec);
         auto msg = p.release();
         res = router.handle(to_request(msg, std::move(msg.body()), {}));

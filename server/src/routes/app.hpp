@@ -7,7 +7,9 @@
 
 #include "jobs/job_manager.hpp"
 #include "routes/router.hpp"
+#include "store/bundle_store.hpp"
 #include "store/dataset_store.hpp"
+#include "store/graph_store.hpp"
 #include "store/tile_cache.hpp"
 #include "trailscope/density/renderer.hpp"
 
@@ -20,9 +22,14 @@ struct App {
   JobManager jobs{1};
   TileCache tiles;
   density::DensityRenderer density;
+  /// Uploaded graphs and bundling results, opened in `data_root` (null without one: the graph and bundle
+  /// routes then answer 500). Declared after `jobs` so they are destroyed first; running jobs hold their
+  /// own references.
+  std::shared_ptr<GraphStore> graphs;
+  std::shared_ptr<BundleStore> bundles;
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
-      std::size_t tile_cache_bytes);
+      std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});
 };
 
 /// The one table of routes (see proto/openapi.yaml, which lists the same).

@@ -21,6 +21,20 @@ Response cancel_job(App& app, const Request& req, const PathParams& p);
 
 Response density_tile(App& app, const Request& req, const PathParams& p);
 
+Response list_graphs(App& app, const Request& req, const PathParams& p);
+Response create_graph(App& app, const Request& req, const PathParams& p);
+Response get_graph(App& app, const Request& req, const PathParams& p);
+Response delete_graph(App& app, const Request& req, const PathParams& p);
+
+Response bundle_params(App& app, const Request& req, const PathParams& p);
+Response list_bundles(App& app, const Request& req, const PathParams& p);
+Response create_bundle(App& app, const Request& req, const PathParams& p);
+Response get_bundle(App& app, const Request& req, const PathParams& p);
+Response delete_bundle(App& app, const Request& req, const PathParams& p);
+Response bundle_image(App& app, const Request& req, const PathParams& p);
+Response bundle_polylines(App& app, const Request& req, const PathParams& p);
+Response bundle_tile(App& app, const Request& req, const PathParams& p);
+
 Response static_file(App& app, const Request& req, const PathParams& p);
 
 }  // namespace trailscope::server::handlers

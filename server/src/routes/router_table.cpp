@@ -5,11 +5,13 @@
 namespace trailscope::server {
 
 App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
-         std::size_t tile_cache_bytes)
-    : store(std::move(s)),
-      upload_dir(std::move(uploads)),
-      web_root(std::move(web)),
-      tiles(tile_cache_bytes) {}
+         std::size_t tile_cache_bytes, const std::filesystem::path& data_root)
+    : store(std::move(s)), upload_dir(std::move(uploads)), web_root(std::move(web)), tiles(tile_cache_bytes) {
+  if (!data_root.empty()) {
+    graphs = std::make_shared<GraphStore>(data_root);
+    bundles = std::make_shared<BundleStore>(data_root);
+  }
+}
 
 Router make_router(App& app) {
   Router r;
@@ -30,6 +32,19 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/jobs/{job}", bind(get_job));                                 // 200 404
   r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));                           // 200 404
   r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile));      // 200 304 400 404
+  r.add("GET", "/api/v1/graphs", bind(list_graphs));                                 // 200
+  r.add("POST", "/api/v1/graphs", bind(create_graph));                               // 201 400 413 415 422
+  r.add("GET", "/api/v1/graphs/{graph}", bind(get_graph));                           // 200 404
+  r.add("DELETE", "/api/v1/graphs/{graph}", bind(delete_graph));                     // 204 404
+  // /bundles/params before /bundles/{bundle}: the first matching route wins.
+  r.add("GET", "/api/v1/bundles/params", bind(bundle_params));                          // 200
+  r.add("GET", "/api/v1/bundles", bind(list_bundles));                                  // 200
+  r.add("POST", "/api/v1/bundles", bind(create_bundle));                                // 202 400 404 413 422
+  r.add("GET", "/api/v1/bundles/{bundle}", bind(get_bundle));                           // 200 404
+  r.add("DELETE", "/api/v1/bundles/{bundle}", bind(delete_bundle));                     // 204 404
+  r.add("GET", "/api/v1/bundles/{bundle}/image.png", bind(bundle_image));               // 200 304 400 404
+  r.add("GET", "/api/v1/bundles/{bundle}/polylines", bind(bundle_polylines));           // 200 400 404 413
+  r.add("GET", "/tiles/{dataset}/bundle/{bundle}/{z}/{x}/{y}.png", bind(bundle_tile));  // 200 304 400 404
   // GET /api/v1/ws (WebSocket upgrade) is taken by the HTTP session before routing.
   r.set_fallback(bind(static_file));
   return r;

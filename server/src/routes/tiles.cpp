@@ -2,13 +2,13 @@
 #include <limits>
 
 #include "routes/handlers.hpp"
+#include "routes/png_cache.hpp"
 #include "routes/params.hpp"
 #include "trailscope/core/backend.hpp"
 #include "trailscope/core/limits.hpp"
 
 namespace trailscope::server::handlers {
 
-namespace {
 // FNV-1a: a stable 64-bit digest of the cache key, so ETags survive restarts.
 std::string etag_of(const std::string& key) {
   std::uint64_t h = 1469598103934665603ull;
@@ -18,6 +18,29 @@ std::string etag_of(const std::string& key) {
   return buf;
 }
 
+Response with_cache_headers(Response r, const std::string& etag) {
+  r.headers.emplace_back("ETag", etag);
+  // Revalidate after 5 minutes: the URL does not name the data's version, the ETag does.
+  r.headers.emplace_back("Cache-Control", "public, max-age=300");
+  return r;
+}
+
+Response cached_png(TileCache& cache, const std::string& key, const Request& req,
+                    const std::function<std::string()>& render) {
+  const std::string etag = etag_of(key);
+  if (req.header("if-none-match") == etag) return with_cache_headers(Response::status_only(304), etag);
+  auto bytes = cache.get(key);
+  if (!bytes) {
+    bytes = std::make_shared<const std::string>(render());
+    cache.put(key, bytes);
+  }
+  Response res;
+  res.content_type = "image/png";
+  res.shared_body = std::move(bytes);
+  return with_cache_headers(std::move(res), etag);
+}
+
+namespace {
 std::string param_or(const Request& req, const char* name, const char* fallback) {
   auto it = req.query.find(name);
   return it == req.query.end() ? fallback : it->second;
@@ -52,24 +75,8 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
                           q.canonical() + "&value=" + value + "&how=" + how + "&cmap=" + t.cmap +
                           "&size=" + std::to_string(t.size) + "&kernel=" + std::to_string(t.kernel_radius);
   density::validate(t);  // before the ETag check: a malformed request never gets a 304
-  const std::string etag = etag_of(key);
-  const auto with_headers = [&](Response r) {
-    r.headers.emplace_back("ETag", etag);
-    // Revalidate after 5 minutes: the URL does not name the dataset's version, the ETag does.
-    r.headers.emplace_back("Cache-Control", "public, max-age=300");
-    return r;
-  };
-  if (req.header("if-none-match") == etag) return with_headers(Response::status_only(304));
-  auto bytes = app.tiles.get(key);
-  if (!bytes) {
-    density::TileResult r = app.density.render_tile(*ds->trails, dataset_key, q, t);
-    bytes = std::make_shared<const std::string>(std::move(r.png));
-    app.tiles.put(key, bytes);
-  }
-  Response res;
-  res.content_type = "image/png";
-  res.shared_body = std::move(bytes);
-  return with_headers(std::move(res));
+  return cached_png(app.tiles, key, req,
+                    [&] { return std::move(app.density.render_tile(*ds->trails, dataset_key, q, t).png); });
 }
 
 }  // namespace trailscope::server::handlers

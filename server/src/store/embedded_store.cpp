@@ -1,8 +1,6 @@
 #include "trailscope/core/json_text.hpp"
 #include "store/embedded_store.hpp"
-
-#include <fcntl.h>
-#include <unistd.h>
+#include "store/column_io.hpp"
 
 #include <cstdio>
 #include <fstream>
@@ -18,47 +16,12 @@ namespace {
 constexpr char kMagic[] = "TRAILSCOPE-COLUMNS-1";
 constexpr int kFormatVersion = 1;
 
-Error io_error(const fs::path& p, const std::string& what) {
-  return Error(Error::Kind::internal, "", "store: cannot " + what + " " + p.string());
-}
-
-// Flushes a file or folder to disk, so that a rename that follows cannot be seen before the data.
-void fsync_path(const fs::path& p) {
-  const int fd = ::open(p.c_str(), O_RDONLY);
-  if (fd < 0) throw io_error(p, "open for fsync");
-  const int rc = ::fsync(fd);
-  ::close(fd);
-  if (rc != 0) throw io_error(p, "fsync");
-}
-
-template <typename T>
-void write_column(const fs::path& dir, const char* name, const std::vector<T>& v) {
-  const fs::path p = dir / (std::string(name) + ".bin");
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
-  out.close();
-  if (!out) throw io_error(p, "write");
-  fsync_path(p);
-}
-
-template <typename T>
-void read_column(const fs::path& dir, const char* name, std::vector<T>& v, std::size_t n) {
-  const fs::path p = dir / (std::string(name) + ".bin");
-  std::error_code ec;
-  const auto size = fs::file_size(p, ec);
-  if (ec || size != n * sizeof(T)) throw io_error(p, "read (size mismatch)");
-  v.resize(n);
-  std::ifstream in(p, std::ios::binary);
-  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(size));
-  if (!in) throw io_error(p, "read");
-}
-
-std::string random_suffix() {
-  std::random_device rd;
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%08x%08x", rd(), rd());
-  return buf;
-}
+// The column files, fsync and temporary names are shared with the graph and bundle stores.
+using column_io::fsync_path;
+using column_io::io_error;
+using column_io::random_suffix;
+using column_io::read_column;
+using column_io::write_column;
 }  // namespace
 
 EmbeddedStore::EmbeddedStore(fs::path root) : root_(std::move(root)) {

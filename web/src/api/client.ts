@@ -2,6 +2,9 @@
 
 import type {
   ApiErrorBody,
+  Bundle,
+  BundleAccepted,
+  BundleParamList,
   Dataset,
   DatasetFormat,
   DatasetList,
@@ -94,7 +97,40 @@ export const api = {
   job: (jobId: string, signal?: AbortSignal) => request<Job>(`/api/v1/jobs/${encodeURIComponent(jobId)}`, { signal }),
 
   cancelJob: (jobId: string) => request<Job | void>(`/api/v1/jobs/${encodeURIComponent(jobId)}`, { method: 'DELETE' }),
+
+  bundleParams: (signal?: AbortSignal) => request<BundleParamList>('/api/v1/bundles/params', { signal }),
+
+  /** Starts bundling the flight trails of a dataset window; `query` holds the summary route's filters. */
+  startBundle(dataset: string, query: URLSearchParams, params: Record<string, string>) {
+    const body = { source: { dataset, query: Object.fromEntries(query) }, params };
+    return request<BundleAccepted>('/api/v1/bundles', {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(body),
+    });
+  },
+
+  bundle: (id: string, signal?: AbortSignal) => request<Bundle>(`/api/v1/bundles/${encodeURIComponent(id)}`, { signal }),
+
+  /** The bundle's TSBL polylines, fully bundled (the client blends toward the originals itself). */
+  async bundlePolylines(id: string, signal?: AbortSignal): Promise<ArrayBuffer> {
+    let res: Response;
+    try {
+      res = await fetch(`/api/v1/bundles/${encodeURIComponent(id)}/polylines?format=binary&relaxation=0`, { signal });
+    } catch (e) {
+      if (isAbort(e)) throw e;
+      throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
+    }
+    if (!res.ok) throw await errorFromResponse(res);
+    return res.arrayBuffer();
+  },
 };
+
+/** XYZ template of a bundle's map tiles over `dataset` at `relaxation`. */
+export function bundleTileTemplate(origin: string, dataset: string, bundle: string, relaxation: number): string {
+  const q = new URLSearchParams({ relaxation: relaxation.toFixed(2) });
+  return `${origin}/tiles/${encodeURIComponent(dataset)}/bundle/${encodeURIComponent(bundle)}/{z}/{x}/{y}.png?${q.toString()}`;
+}
 
 export interface UploadHandle {
   /** Resolves with the accepted ingest job once the whole body is sent. */

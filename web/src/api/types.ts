@@ -46,6 +46,8 @@ export interface Job {
   stage: string;
   dataset: string;
   error: ApiErrorBody | null;
+  /** The job's result once done (an ingest's Dataset, a bundle's Bundle). */
+  result?: unknown;
 }
 
 export interface JobAccepted {
@@ -135,3 +137,50 @@ export type DensityValue = 'count' | 'altitude' | 'speed';
 export type DensityHow = 'linear' | 'log' | 'eq_hist';
 export type Colormap = 'fire' | 'viridis' | 'inferno' | 'magma' | 'gray';
 export type DatasetFormat = 'opensky_csv' | 'traffic_json' | 'so6' | 'readsb_trace';
+
+/** One bundling parameter (GET /api/v1/bundles/params), as BundleParams describes it. */
+export interface BundleParamInfo {
+  name: string;
+  type: 'number' | 'integer' | 'boolean' | 'enum';
+  default: string;
+  /** "[2, 128] px", "1..100", "uniform, hourglass", ... */
+  range: string;
+  help: string;
+}
+
+export interface BundleParamList {
+  params: BundleParamInfo[];
+  render: string[];
+}
+
+export interface BundleQuality {
+  ink_raw_px: number;
+  ink_bundled_px: number;
+  /** 1 − bundled/raw */
+  ink_reduction: number;
+  mean_displacement_px: number;
+  max_displacement_px: number;
+}
+
+/** A stored bundling result (GET /api/v1/bundles/{id}). */
+export interface Bundle {
+  id: string;
+  created: string;
+  source: { dataset?: string; query?: Record<string, string>; canonical?: string; graph?: string; name?: string };
+  units: 'merc32' | 'epsg3857' | 'plane';
+  coordinates: 'lonlat' | 'source';
+  params: Record<string, string>;
+  polylines: number;
+  input_points: number;
+  points: number;
+  quality: BundleQuality;
+  times_ms: Record<'resample' | 'splat' | 'convolve' | 'advect' | 'smooth' | 'endpoints' | 'post' | 'total', number>;
+  path: string;
+  device: string;
+}
+
+export interface BundleAccepted {
+  job: Job;
+  /** The id the result will have once the job is done. */
+  bundle: string;
+}

@@ -166,7 +166,8 @@ export class JobsView {
           h(
             'div',
             { class: 'job-line' },
-            h('span', { class: 'job-name', title: `${j.kind} ${j.id}` }, j.dataset || j.id),
+            // Ingest jobs are named by the data set they create; others by what they do and to what.
+            h('span', { class: 'job-name', title: `${j.kind} ${j.id}` }, j.kind === 'ingest' ? j.dataset || j.id : `${j.kind} ${j.dataset || j.id}`),
             h('span', { class: 'job-state' }, active ? `${j.stage || j.state} · ${Math.round(j.progress * 100)}%` : j.state),
           ),
           active || j.state === 'done' ? progress(j.state === 'done' ? 1 : j.progress, `${j.kind} ${j.dataset}`) : null,

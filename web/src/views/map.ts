@@ -12,6 +12,7 @@ import { h } from '../lib/dom';
 maplibregl.setWorkerUrl(workerUrl);
 
 const DENSITY = 'density';
+const BUNDLE = 'bundle';
 const TRACK = 'track';
 const TRACK_ENDS = 'track-ends';
 
@@ -29,6 +30,8 @@ export class MapView {
   private readonly container: HTMLElement;
   private readonly status: HTMLElement;
   private template: string | null = null;
+  private bundleTemplate: string | null = null;
+  private densityShown = true;
   private tileErrorShown = false;
 
   constructor(container: HTMLElement, private readonly events: MapViewEvents) {
@@ -76,6 +79,7 @@ export class MapView {
     this.map.on('idle', () => {
       container.dataset.idle = 'true';
       container.dataset.densityLoaded = String(this.template !== null && this.map.isSourceLoaded(DENSITY));
+      container.dataset.bundleLoaded = String(this.bundleTemplate !== null && this.map.isSourceLoaded(BUNDLE));
       container.dataset.zoom = this.map.getZoom().toFixed(3);
       container.dataset.bounds = this.bounds().join(',');
       if (this.template && !this.tileErrorShown) this.events.onTilesOk();
@@ -100,7 +104,12 @@ export class MapView {
       { id: DENSITY, type: 'raster', source: DENSITY, paint: { 'raster-opacity': 0.92, 'raster-fade-duration': 0 } },
       'borders',
     );
-    if (!this.template) m.setLayoutProperty(DENSITY, 'visibility', 'none');
+
+    // Bundle tiles (a bundling result of the current data set), shown instead of the density in the
+    // bundling panel's "bundled" mode.
+    m.addSource(BUNDLE, { type: 'raster', tiles: this.bundleTemplate ? [this.bundleTemplate] : [], tileSize: 256, minzoom: 0, maxzoom: 14 });
+    m.addLayer({ id: BUNDLE, type: 'raster', source: BUNDLE, paint: { 'raster-opacity': 0.95, 'raster-fade-duration': 0 } }, 'borders');
+    this.applyVisibility();
 
     m.addSource(TRACK, { type: 'geojson', data: { type: 'FeatureCollection', features: [] } });
     m.addSource(TRACK_ENDS, { type: 'geojson', data: { type: 'FeatureCollection', features: [] } });
@@ -183,7 +192,33 @@ export class MapView {
     const src = this.map.getSource(DENSITY) as maplibregl.RasterTileSource | undefined;
     if (!src) return; // applied in addDataLayers once the style has loaded
     if (template) src.setTiles([template]);
-    this.map.setLayoutProperty(DENSITY, 'visibility', template ? 'visible' : 'none');
+    this.applyVisibility();
+  }
+
+  /** Shows a bundle's tiles (null hides them). Unchanged templates do nothing. */
+  setBundleTiles(template: string | null): void {
+    if (template === this.bundleTemplate) return;
+    this.bundleTemplate = template;
+    this.container.dataset.bundleTemplate = template ?? '';
+    this.container.dataset.bundleLoaded = 'false';
+    this.container.dataset.idle = 'false';
+    const src = this.map.getSource(BUNDLE) as maplibregl.RasterTileSource | undefined;
+    if (!src) return; // applied in addDataLayers once the style has loaded
+    if (template) src.setTiles([template]);
+    this.applyVisibility();
+  }
+
+  /** Hides the density layer while a bundle is shown in its place. */
+  setDensityShown(shown: boolean): void {
+    this.densityShown = shown;
+    this.container.dataset.densityShown = String(shown);
+    this.applyVisibility();
+  }
+
+  private applyVisibility() {
+    if (!this.map.getLayer(DENSITY) || !this.map.getLayer(BUNDLE)) return;
+    this.map.setLayoutProperty(DENSITY, 'visibility', this.template && this.densityShown ? 'visible' : 'none');
+    this.map.setLayoutProperty(BUNDLE, 'visibility', this.bundleTemplate ? 'visible' : 'none');
   }
 
   fitBBox(b: BBox, animate = true): void {

@@ -1,0 +1,106 @@
+#include <fstream>
+#include <sstream>
+
+#include "routes/handlers.hpp"
+#include "store/dataset_ingest.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope::server::handlers {
+namespace fs = std::filesystem;
+
+namespace {
+/// Longest display name of a graph (characters).
+constexpr std::size_t kMaxGraphNameLength = 128;
+
+const std::string kTooLarge =
+    "graph upload exceeds the limit of " + std::to_string(limits::kMaxGraphUploadBytes >> 20) + " MiB";
+
+GraphStore& graph_store(App& app) {
+  if (!app.graphs) throw Error(Error::Kind::internal, "", "this server was started without a graph store");
+  return *app.graphs;
+}
+
+/// The upload's bytes: a streamed body file (removed when done) or the in-memory body.
+std::string upload_bytes(const Request& req) {
+  if (req.body_file.empty()) {
+    if (req.body.size() > limits::kMaxGraphUploadBytes)
+      throw Error(Error::Kind::payload_too_large, "body", kTooLarge);
+    return req.body;
+  }
+  struct RemoveFile {
+    fs::path p;
+    ~RemoveFile() {
+      std::error_code ec;
+      fs::remove(p, ec);
+    }
+  } cleanup{req.body_file};
+  std::error_code ec;
+  const auto size = fs::file_size(req.body_file, ec);
+  if (ec) throw Error(Error::Kind::internal, "", "cannot read upload " + req.body_file.string());
+  if (size > limits::kMaxGraphUploadBytes) throw Error(Error::Kind::payload_too_large, "body", kTooLarge);
+  std::ifstream in(req.body_file, std::ios::binary);
+  std::string bytes(size, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (!in) throw Error(Error::Kind::internal, "", "cannot read upload " + req.body_file.string());
+  return bytes;
+}
+}  // namespace
+
+Response list_graphs(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  return Response::json(200, {{"graphs", graph_store(app).list()}});
+}
+
+Response get_graph(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  return Response::json(200, graph_store(app).meta(p.at("graph")));
+}
+
+Response delete_graph(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  graph_store(app).remove(p.at("graph"));
+  return Response::no_content();
+}
+
+Response create_graph(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {"format", "name"});
+  GraphStore& graphs = graph_store(app);
+  std::optional<bundling::GraphFormat> format;
+  if (auto f = req.query.find("format"); f != req.query.end() && f->second != "auto")
+    format = bundling::parse_graph_format(f->second, "format");
+  StoredGraph g;
+  if (auto n = req.query.find("name"); n != req.query.end()) {
+    if (n->second.empty() || n->second.size() > kMaxGraphNameLength)
+      throw invalid_argument("name", "name: 1 to " + std::to_string(kMaxGraphNameLength) + " characters");
+    g.name = n->second;
+  }
+  const std::string bytes = upload_bytes(req);
+  if (bytes.empty()) throw invalid_argument("body", "body: the upload is empty");
+  g.bytes = bytes.size();
+  // An OD CSV by node name needs its nodes table too: both travel in one JSON object.
+  const bool json_body = req.header("content-type").rfind("application/json", 0) == 0;
+  const nlohmann::json j = json_body ? nlohmann::json::parse(bytes, nullptr, false) : nlohmann::json();
+  if (j.is_object() && j.contains("edges_csv")) {
+    for (const auto& [k, v] : j.items())
+      if (k != "edges_csv" && k != "nodes_csv")
+        throw invalid_argument(k, "unknown field '" + k + "' (an OD upload has edges_csv and nodes_csv)");
+    if (!j["edges_csv"].is_string()) throw invalid_argument("edges_csv", "edges_csv: must be CSV text");
+    if (j.contains("nodes_csv") && !j["nodes_csv"].is_string())
+      throw invalid_argument("nodes_csv", "nodes_csv: must be CSV text");
+    if (format && *format != bundling::GraphFormat::od_csv)
+      throw invalid_argument("format", "format: an edges_csv/nodes_csv upload is od_csv");
+    const auto od = bundling::GraphFormat::od_csv;
+    g.graph =
+        bundling::parse_graph(j["edges_csv"].get<std::string>(), j.value("nodes_csv", std::string()), &od);
+  } else {
+    g.graph = bundling::parse_graph(bytes, {}, format ? &*format : nullptr);
+  }
+  g.created = utc_now_iso();
+  const auto stored = graphs.put(std::move(g));
+  Response res = Response::json(201, stored->to_json());
+  res.headers.emplace_back("Location", "/api/v1/graphs/" + stored->id);
+  return res;
+}
+
+}  // namespace trailscope::server::handlers

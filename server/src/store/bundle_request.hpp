@@ -1,0 +1,46 @@
+#pragma once
+// One bundling, from its source to a StoredBundle: the same steps for POST /api/v1/bundles and for
+// `trailscope bundle`. A source is the flight trails of a dataset under a window query, or a graph.
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "store/bundle_store.hpp"
+#include "store/dataset_store.hpp"
+#include "store/graph_store.hpp"
+#include "trailscope/bundling/graph_io.hpp"
+#include "trailscope/bundling/params.hpp"
+#include "trailscope/core/backend.hpp"
+#include "trailscope/core/progress.hpp"
+
+namespace trailscope::server {
+
+/// The input of a bundling in bundle pixels, with where it came from.
+struct BundleInput {
+  bundling::Polylines px;
+  bundling::Frame frame;
+  BundleUnits units = BundleUnits::plane;
+  nlohmann::json source;
+  std::string dataset;  ///< the dataset of flight trails, else ""
+  std::uint64_t input_points = 0;
+};
+
+/// The flight trails of `ds` under `query`, split at gaps over `max_gap` s, in the pixels of the query's
+/// view (its bbox, else the matching points' extent). Throws what parse_query and flight_trails throw.
+BundleInput input_from_dataset(const Dataset& ds, const std::map<std::string, std::string>& query,
+                               double max_gap, const bundling::BundleParams& params);
+/// A graph fitted into the bundle image (Frame::fit with params.border; y flipped when the graph's y
+/// grows upward). `source` is what the result records as its source.
+BundleInput input_from_graph(const bundling::Graph& g, const bundling::BundleParams& params,
+                             nlohmann::json source);
+
+/// Bundles `in` and returns the result as bundle `id` (not stored). The geometry is rounded to float32,
+/// as the store keeps it, so a result draws the same before and after a restart.
+std::shared_ptr<StoredBundle> run_bundle(BundleInput in, const std::string& id,
+                                         const bundling::BundleParams& params, Backend backend,
+                                         const ProgressFn& progress, const CancelToken* cancel);
+
+}  // namespace trailscope::server

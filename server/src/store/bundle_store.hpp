@@ -1,0 +1,82 @@
+#pragma once
+// Bundling results, persisted under <root>/bundles/<id>/ like datasets (column files, the manifest written
+// last, into <root>/tmp/ first and renamed into place). At most limits::kMaxStoredBundles are kept: storing
+// one more deletes the oldest. Metadata of every bundle stays in memory; the geometry is read on first use
+// and only the most recently used few stay loaded, since one bundle can hold tens of millions of points.
+#include <cstdint>
+#include <filesystem>
+#include <list>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trailscope/bundling/bundle.hpp"
+
+namespace trailscope::server {
+
+/// What the source coordinates of a bundle are (Frame::from_pixels maps bundle pixels to them).
+enum class BundleUnits {
+  merc32,    ///< 32-bit Web Mercator units (flight trails of a dataset): lon/lat on the wire
+  epsg3857,  ///< EPSG:3857 metres (a geographic graph): lon/lat on the wire
+  plane,     ///< the graph's own coordinates, passed through
+};
+const char* to_string(BundleUnits u) noexcept;
+BundleUnits parse_bundle_units(const std::string& text);
+
+struct StoredBundle {
+  std::string id;         ///< "b1", "b2", ... (increasing: the lowest number is the oldest)
+  std::string created;    ///< ISO 8601 UTC
+  nlohmann::json source;  ///< {"dataset", "query", "canonical", "max_gap"} or {"graph", "name", "format"}
+  std::string dataset;    ///< the dataset of a flight-trail bundle ("" for a graph): its map tiles' dataset
+  BundleUnits units = BundleUnits::plane;
+  std::uint64_t input_points = 0;  ///< points of the input polylines, before resampling
+  bundling::Bundled bundled;
+
+  /// The API's Bundle object: id, created, source, units, params, counts, frame, quality, times_ms,
+  /// path, device.
+  nlohmann::json to_json() const;
+};
+
+class BundleStore {
+ public:
+  /// Opens (creating if needed) <root>/bundles and notes every complete bundle (manifest read now, the
+  /// geometry on first get()). A folder that fails to load is reported on stderr and skipped.
+  explicit BundleStore(std::filesystem::path root);
+
+  /// Metadata of every bundle (StoredBundle::to_json), oldest first.
+  std::vector<nlohmann::json> list() const;
+  /// Throws not_found("bundle").
+  nlohmann::json meta(const std::string& id) const;
+  /// The whole bundle, read from disk when not loaded. Throws not_found("bundle").
+  std::shared_ptr<const StoredBundle> get(const std::string& id) const;
+  /// A new id for a bundle about to be computed (ids are never reused while the store is open).
+  std::string reserve_id();
+  /// Writes `b` (its id from reserve_id()) whole or not at all, then deletes the oldest bundles beyond
+  /// limits::kMaxStoredBundles. Returns the ids deleted.
+  std::vector<std::string> put(std::shared_ptr<const StoredBundle> b);
+  /// Throws not_found("bundle").
+  void remove(const std::string& id);
+  std::size_t size() const;
+
+  /// Writes / reads one bundle folder (exposed for tests).
+  static void write_bundle(const StoredBundle& b, const std::filesystem::path& dir);
+  static std::shared_ptr<StoredBundle> read_bundle(const std::filesystem::path& dir);
+
+ private:
+  void remove_locked(const std::string& id);
+  void touch_locked(const std::string& id, std::shared_ptr<const StoredBundle> b) const;
+
+  std::filesystem::path root_;
+  mutable std::mutex mu_;
+  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
+  std::map<std::string, nlohmann::json> meta_;
+  /// The loaded bundles, most recently used first (at most kLoadedBundles).
+  mutable std::list<std::pair<std::string, std::shared_ptr<const StoredBundle>>> loaded_;
+  std::uint64_t next_ = 1;
+};
+
+}  // namespace trailscope::server

@@ -1,0 +1,83 @@
+#pragma once
+// File helpers shared by the stores (datasets, graphs, bundles): one binary file per column, fsync before
+// a rename publishes a folder, and random suffixes for temporary folders. Every store writes a folder
+// into <root>/tmp/ and renames it into place, so a reader after a crash sees all of it or none of it.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/json_text.hpp"
+
+namespace trailscope::server::column_io {
+
+inline Error io_error(const std::filesystem::path& p, const std::string& what) {
+  return Error(Error::Kind::internal, "", "store: cannot " + what + " " + p.string());
+}
+
+/// Flushes a file or folder to disk, so that a rename that follows cannot be seen before the data.
+inline void fsync_path(const std::filesystem::path& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY);
+  if (fd < 0) throw io_error(p, "open for fsync");
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) throw io_error(p, "fsync");
+}
+
+/// Writes `v` raw (host byte order: the files never leave the machine that wrote them) to dir/name.bin.
+template <typename T>
+void write_column(const std::filesystem::path& dir, const char* name, const std::vector<T>& v) {
+  const std::filesystem::path p = dir / (std::string(name) + ".bin");
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
+  out.close();
+  if (!out) throw io_error(p, "write");
+  fsync_path(p);
+}
+
+/// Reads dir/name.bin into `v`, which must hold exactly `n` values (a size mismatch is a damaged file).
+template <typename T>
+void read_column(const std::filesystem::path& dir, const char* name, std::vector<T>& v, std::size_t n) {
+  const std::filesystem::path p = dir / (std::string(name) + ".bin");
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(p, ec);
+  if (ec || size != n * sizeof(T)) throw io_error(p, "read (size mismatch)");
+  v.resize(n);
+  std::ifstream in(p, std::ios::binary);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(size));
+  if (!in) throw io_error(p, "read");
+}
+
+/// Writes the manifest last, then flushes it and its folder: a folder without a manifest is incomplete.
+inline void write_manifest(const std::filesystem::path& dir, const nlohmann::json& manifest) {
+  const std::filesystem::path mp = dir / "manifest.json";
+  std::ofstream out(mp, std::ios::trunc);
+  out << json_text(manifest);
+  out.close();
+  if (!out) throw io_error(mp, "write");
+  fsync_path(mp);
+  fsync_path(dir);
+}
+
+inline nlohmann::json read_manifest(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "manifest.json");
+  if (!in) throw io_error(dir / "manifest.json", "open");
+  return nlohmann::json::parse(in);
+}
+
+inline std::string random_suffix() {
+  std::random_device rd;
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%08x%08x", rd(), rd());
+  return buf;
+}
+
+}  // namespace trailscope::server::column_io

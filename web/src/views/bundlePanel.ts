@@ -1,0 +1,271 @@
+// Bundling panel: CUBu parameters (from the API's own list), "Bundle this window" for the current data set,
+// time window, filters and map view, a progress bar fed by the job WebSocket, the quality figures, and the
+// raw/bundled toggle with a relaxation slider that blends on the client (no recomputation).
+
+import { ApiError, api, bundleTileTemplate, isAbort } from '../api/client';
+import { buildQuery } from '../api/query';
+import type { Bundle, BundleParamInfo, Job } from '../api/types';
+import { debounce, h, mount } from '../lib/dom';
+import { blendSource, decodeTsbl } from '../lib/tsbl';
+import type { BundleOverlay } from '../render/bundleOverlay';
+import type { Store } from '../state';
+import type { ErrorSlots } from './errors';
+import type { MapView } from './map';
+
+/** Shown up front; the rest sit under "More parameters". */
+const MAIN_PARAMS = ['size', 'h', 'iterations', 'eps', 'lambda', 'spl', 'profile', 'directional'];
+const FINISHED = new Set(['done', 'failed', 'cancelled']);
+
+type Mode = 'raw' | 'bundled';
+
+export class BundlePanel {
+  private readonly root: HTMLElement;
+  private readonly paramsBox: HTMLElement;
+  private readonly inputs = new Map<string, { info: BundleParamInfo; el: HTMLInputElement | HTMLSelectElement }>();
+  private readonly startBtn: HTMLButtonElement;
+  private readonly status: HTMLElement;
+  private readonly result: HTMLElement;
+  private readonly viewBox: HTMLElement;
+  private readonly slider: HTMLInputElement;
+  private readonly sliderValue: HTMLElement;
+  private readonly modeInputs: Record<Mode, HTMLInputElement>;
+  private job: Job | null = null;
+  private pendingBundle: string | null = null;
+  private bundle: Bundle | null = null;
+  private mode: Mode = 'raw';
+  private relaxation = 0;
+  private loadCtrl: AbortController | null = null;
+  private readonly applyTilesSoon = debounce(() => this.applyLayers(), 250);
+
+  constructor(
+    root: HTMLElement,
+    private readonly store: Store,
+    private readonly map: MapView,
+    private readonly overlay: BundleOverlay,
+    private readonly errors: ErrorSlots,
+  ) {
+    this.root = root;
+    root.dataset.state = 'idle';
+    this.paramsBox = h('div', { class: 'bundle-params' }, h('p', { class: 'empty' }, 'Loading parameters…'));
+    this.startBtn = h('button', { type: 'button', class: 'btn primary', 'data-testid': 'bundle-start', disabled: true }, 'Bundle this window');
+    this.startBtn.addEventListener('click', () => void this.start());
+    this.status = h('div', { class: 'bundle-status', 'aria-live': 'polite', 'data-testid': 'bundle-status' });
+    this.result = h('div', { class: 'bundle-result', 'data-testid': 'bundle-result' });
+
+    const modeInput = (m: Mode) => {
+      const el = h('input', { type: 'radio', name: 'bundle-mode', value: m, id: `bundle-mode-${m}`, 'data-testid': `bundle-mode-${m}` });
+      el.addEventListener('change', () => el.checked && this.setMode(m));
+      return el;
+    };
+    this.modeInputs = { raw: modeInput('raw'), bundled: modeInput('bundled') };
+    this.modeInputs.raw.checked = true;
+    this.slider = h('input', {
+      type: 'range',
+      id: 'bundle-relaxation',
+      min: 0,
+      max: 1,
+      step: 0.01,
+      value: 0,
+      'aria-label': 'Relaxation: 0 = bundled, 1 = raw trails',
+      'data-testid': 'bundle-relaxation',
+    });
+    this.sliderValue = h('span', { class: 'mono small' }, '0.00');
+    // The overlay follows the slider at once (client blend); tiles follow when it rests (a server render).
+    this.slider.addEventListener('input', () => {
+      this.relaxation = Number(this.slider.value);
+      this.sliderValue.textContent = this.relaxation.toFixed(2);
+      this.overlay.setRelaxation(this.relaxation);
+      this.applyTilesSoon();
+    });
+    this.viewBox = h(
+      'div',
+      { class: 'bundle-view', hidden: true },
+      h(
+        'div',
+        { class: 'segmented', role: 'radiogroup', 'aria-label': 'Map shows' },
+        h('label', { for: 'bundle-mode-raw' }, this.modeInputs.raw, h('span', {}, 'Raw')),
+        h('label', { for: 'bundle-mode-bundled' }, this.modeInputs.bundled, h('span', {}, 'Bundled')),
+      ),
+      h('label', { class: 'field-label', for: 'bundle-relaxation' }, 'Relaxation', h('span', { class: 'hint' }, 'bundled → raw'), this.sliderValue),
+      this.slider,
+    );
+    const errorSlot = h('div', { id: 'bundle-error' });
+    root.append(
+      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Bundling'), h('span', { class: 'section-meta' }, 'CUBu')),
+      this.paramsBox,
+      h('div', { class: 'bundle-actions' }, this.startBtn),
+      errorSlot,
+      this.status,
+      this.result,
+      this.viewBox,
+    );
+    errors.register(['source', 'body', 'query'], errorSlot);
+    void this.loadParams();
+    store.subscribe((s, prev) => {
+      if (s.datasetId !== prev.datasetId) this.reset();
+      this.startBtn.disabled = !this.canStart();
+    });
+  }
+
+  private async loadParams() {
+    try {
+      const { params } = await api.bundleParams();
+      const main: HTMLElement[] = [];
+      const more: HTMLElement[] = [];
+      for (const info of params) (MAIN_PARAMS.includes(info.name) ? main : more).push(this.paramField(info));
+      mount(
+        this.paramsBox,
+        h('div', { class: 'bundle-grid' }, ...main),
+        h('details', { class: 'bundle-more' }, h('summary', {}, 'More parameters'), h('div', { class: 'bundle-grid' }, ...more)),
+      );
+      this.startBtn.disabled = !this.canStart();
+    } catch (e) {
+      mount(this.paramsBox, h('p', { class: 'error-text small' }, e instanceof ApiError ? e.detail : String(e)));
+    }
+  }
+
+  private paramField(info: BundleParamInfo): HTMLElement {
+    const id = `bundle-param-${info.name}`;
+    let el: HTMLInputElement | HTMLSelectElement;
+    if (info.type === 'enum' || info.type === 'boolean') {
+      const options = info.type === 'boolean' ? ['true', 'false'] : info.range.split(',').map((o) => o.trim());
+      el = h('select', { id, 'data-param': info.name, 'data-testid': id }, ...options.map((o) => h('option', { value: o, selected: o === info.default }, o)));
+    } else {
+      el = h('input', { id, type: 'text', inputmode: 'decimal', placeholder: info.default, autocomplete: 'off', 'data-param': info.name, 'data-testid': id });
+    }
+    const err = h('div', { id: `${id}-error` });
+    this.errors.register([info.name], err);
+    this.inputs.set(info.name, { info, el });
+    return h(
+      'div',
+      { class: 'field', title: `${info.help} (${info.range}; default ${info.default})` },
+      h('label', { class: 'field-label', for: id }, info.name.replace(/_/g, ' ')),
+      el,
+      err,
+    );
+  }
+
+  /** Parameters that differ from their defaults, as text (BundleParams::set reads them). */
+  private params(): Record<string, string> {
+    const out: Record<string, string> = {};
+    for (const [name, { info, el }] of this.inputs) {
+      const v = el.value.trim();
+      if (v !== '' && v !== info.default) out[name] = v;
+    }
+    return out;
+  }
+
+  private canStart(): boolean {
+    return this.inputs.size > 0 && this.store.dataset() !== null && !(this.job && !FINISHED.has(this.job.state));
+  }
+
+  private async start() {
+    const d = this.store.dataset();
+    if (!d) return;
+    // The window as the dashboard shows it, in the view's extent: bundling happens in the view's pixels.
+    const s = this.store.get();
+    const filters = { ...this.store.effectiveFilters(), bbox: s.mapBBox ?? this.store.effectiveFilters().bbox };
+    this.errors.clear('bundle');
+    this.startBtn.disabled = true;
+    try {
+      const accepted = await api.startBundle(d.id, buildQuery(filters), this.params());
+      this.pendingBundle = accepted.bundle;
+      this.job = null;
+      this.update(accepted.job, true);
+      // Events sent before this response arrived were dropped (the job id was unknown): catch up once.
+      this.update(await api.job(accepted.job.id));
+    } catch (e) {
+      const err = e instanceof ApiError ? e : new ApiError(0, { error: 'client', detail: String(e) });
+      this.errors.show('bundle', err);
+      this.startBtn.disabled = !this.canStart();
+    }
+  }
+
+  /** A job event (WebSocket or polling): only this panel's current job is followed. */
+  update(job: Job, started = false): void {
+    if (!started && (!this.job || job.id !== this.job.id)) return;
+    // Events can arrive out of order; a job never goes back.
+    if (this.job && (FINISHED.has(this.job.state) || (job.state === this.job.state && job.progress < this.job.progress))) return;
+    this.job = job;
+    this.root.dataset.state = job.state;
+    this.root.dataset.job = job.id;
+    const pct = Math.round(Math.min(1, Math.max(0, job.state === 'done' ? 1 : job.progress)) * 100);
+    const cancel = h('button', { type: 'button', class: 'link-button', 'data-testid': 'bundle-cancel' }, 'Cancel');
+    cancel.addEventListener('click', () => void api.cancelJob(job.id).catch(() => undefined));
+    mount(
+      this.status,
+      h('div', { class: 'job-line' }, h('span', {}, `Bundle ${this.pendingBundle ?? ''}`), h('span', { class: 'job-state' }, FINISHED.has(job.state) ? job.state : `${job.stage || job.state} · ${pct}%`)),
+      h(
+        'div',
+        { class: 'progress', role: 'progressbar', 'aria-label': 'Bundling progress', 'aria-valuemin': 0, 'aria-valuemax': 100, 'aria-valuenow': pct, 'data-testid': 'bundle-progress' },
+        h('div', { class: 'progress-fill', style: `width:${pct}%` }),
+      ),
+      job.error ? h('div', { class: 'error-text small' }, job.error.detail || job.error.error) : null,
+      FINISHED.has(job.state) ? null : cancel,
+    );
+    this.startBtn.disabled = !this.canStart();
+    if (job.state === 'done') void this.load((job.result as Bundle | null)?.id ?? this.pendingBundle ?? '');
+  }
+
+  /** Fetches the result's meta and its TSBL polylines (once: the slider blends them locally). */
+  private async load(id: string) {
+    this.loadCtrl?.abort();
+    const ctrl = new AbortController();
+    this.loadCtrl = ctrl;
+    try {
+      const [meta, buf] = await Promise.all([api.bundle(id, ctrl.signal), api.bundlePolylines(id, ctrl.signal)]);
+      this.bundle = meta;
+      this.overlay.setSource(blendSource(decodeTsbl(buf)));
+      this.showResult(meta);
+      this.root.dataset.bundle = meta.id;
+      this.viewBox.hidden = false;
+      this.setMode('bundled');
+    } catch (e) {
+      if (isAbort(e)) return;
+      mount(this.result, h('p', { class: 'error-text small' }, e instanceof ApiError ? e.detail : String(e)));
+    }
+  }
+
+  private showResult(b: Bundle) {
+    const q = b.quality;
+    const row = (k: string, v: string, testid: string) => h('div', { class: 'kv' }, h('span', { class: 'muted' }, k), h('span', { class: 'mono', 'data-testid': testid }, v));
+    mount(
+      this.result,
+      row('Trails', `${b.polylines.toLocaleString('en-US')} (${b.points.toLocaleString('en-US')} points)`, 'bundle-trails'),
+      row('Ink reduction', `${(100 * q.ink_reduction).toFixed(1)} %`, 'bundle-ink'),
+      row('Displacement', `mean ${q.mean_displacement_px.toFixed(1)} px, max ${q.max_displacement_px.toFixed(1)} px`, 'bundle-displacement'),
+      row('Time', `${b.times_ms.total.toFixed(0)} ms on ${b.path}${b.device ? ` (${b.device})` : ''}`, 'bundle-time'),
+    );
+  }
+
+  private setMode(m: Mode) {
+    this.mode = m;
+    this.modeInputs[m].checked = true;
+    this.root.dataset.mode = m;
+    this.applyLayers();
+  }
+
+  /** Raw: the density tiles. Bundled: the bundle's tiles at the slider's relaxation, and the overlay. */
+  private applyLayers() {
+    const d = this.store.dataset();
+    const bundled = this.mode === 'bundled' && this.bundle !== null && d !== null && this.bundle.source.dataset === d.id;
+    this.map.setDensityShown(!bundled);
+    this.map.setBundleTiles(bundled ? bundleTileTemplate(window.location.origin, d!.id, this.bundle!.id, this.relaxation) : null);
+    this.overlay.setVisible(bundled);
+  }
+
+  /** Another data set: its bundles do not apply. */
+  private reset() {
+    this.loadCtrl?.abort();
+    this.bundle = null;
+    this.job = null;
+    this.pendingBundle = null;
+    this.overlay.setSource(null);
+    this.root.dataset.state = 'idle';
+    delete this.root.dataset.bundle;
+    mount(this.status);
+    mount(this.result);
+    this.viewBox.hidden = true;
+    this.setMode('raw');
+  }
+}
