@@ -63,7 +63,14 @@ TEST(EmbeddedStore, InterruptedWriteLeavesNoDataset) {
   // A dataset folder without its manifest (written last) is not a dataset either.
   fs::create_directories(tmp.path() / "datasets" / "broken");
   std::ofstream(tmp.path() / "datasets" / "broken" / "t.bin") << "partial";
-  EmbeddedStore s(tmp.path());
+  {
+    // A CLI verb opening the folder of a live server must not touch its writes in flight.
+    EmbeddedStore cli(tmp.path());
+    EXPECT_TRUE(cli.contains("kept"));
+    EXPECT_FALSE(cli.contains("half"));
+    EXPECT_TRUE(fs::exists(tmp.path() / "tmp" / "half.1234" / "t.bin"));
+  }
+  EmbeddedStore s(tmp.path(), EmbeddedStore::Leftovers::remove);  // as `serve` opens it
   EXPECT_TRUE(s.contains("kept"));
   EXPECT_FALSE(s.contains("half"));
   EXPECT_FALSE(s.contains("broken"));

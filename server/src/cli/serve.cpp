@@ -45,7 +45,7 @@ void add_serve(CLI::App& app) {
     if (default_backend() == Backend::opencl ||
         (default_backend() == Backend::auto_ && opencl_info().device_type == "gpu"))
       std::thread([] { opencl_warm_up(); }).detach();
-    auto store = std::make_shared<EmbeddedStore>(o->data_dir);
+    auto store = std::make_shared<EmbeddedStore>(o->data_dir, EmbeddedStore::Leftovers::remove);
     store->list();  // load every dataset now, so that no first request pays for reading one
     if (o->demo && !store->contains("demo"))
       create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);

@@ -24,15 +24,17 @@ using column_io::read_column;
 using column_io::write_column;
 }  // namespace
 
-EmbeddedStore::EmbeddedStore(fs::path root) : root_(std::move(root)) {
+EmbeddedStore::EmbeddedStore(fs::path root, Leftovers leftovers) : root_(std::move(root)) {
   std::error_code ec;
   for (const char* sub : {"datasets", "tmp", "uploads"}) {
     fs::create_directories(root_ / sub, ec);
     if (ec) throw io_error(root_ / sub, "create");
   }
-  // Leftovers of interrupted writes and uploads are never part of a dataset.
-  for (const char* sub : {"tmp", "uploads"})
-    for (const auto& e : fs::directory_iterator(root_ / sub)) fs::remove_all(e.path(), ec);
+  // Leftovers of interrupted writes and uploads are never part of a dataset; only the server removes
+  // them, since a CLI verb run beside a live server would otherwise delete its writes in flight.
+  if (leftovers == Leftovers::remove)
+    for (const char* sub : {"tmp", "uploads"})
+      for (const auto& e : fs::directory_iterator(root_ / sub)) fs::remove_all(e.path(), ec);
   // Only complete datasets (their manifest is written last) are known; their columns are read when
   // first asked for, so a CLI query of one dataset does not read every other one.
   for (const auto& e : fs::directory_iterator(root_ / "datasets"))

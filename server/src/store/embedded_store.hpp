@@ -13,11 +13,16 @@ namespace trailscope::server {
 
 class EmbeddedStore final : public DatasetStore {
  public:
-  /// Opens (creating if needed) the store at `root`, removes leftovers of interrupted writes and notes
-  /// every complete dataset; each is loaded on first get() (list() loads all). A dataset folder that
-  /// fails to load is reported on stderr and skipped, never deleted. Throws Error(internal) when `root`
-  /// cannot be created.
-  explicit EmbeddedStore(std::filesystem::path root);
+  /// What opening does with tmp/ and uploads/ (leftovers of interrupted writes and uploads).
+  enum class Leftovers {
+    keep,    ///< the CLI verbs: a server may be running on the same folder, mid-write or mid-upload
+    remove,  ///< `serve`, the one owner of a data folder: nothing in them belongs to anyone any more
+  };
+  /// Opens (creating if needed) the store at `root`, removes leftovers when asked, and notes every
+  /// complete dataset; each is loaded on first get() (list() loads all). A dataset folder that fails to
+  /// load is reported on stderr and skipped, never deleted. Throws Error(internal) when `root` cannot be
+  /// created.
+  explicit EmbeddedStore(std::filesystem::path root, Leftovers leftovers = Leftovers::keep);
 
   std::vector<std::shared_ptr<const Dataset>> list() const override;
   std::shared_ptr<const Dataset> get(const std::string& id) const override;
