@@ -523,8 +523,52 @@ int main(int argc, char** argv) {
       }
       if (const json* o = find1("bundle", {{"backend", "opencl"}}))
         body << "\nOpenCL device: " << str(o, "device") << ". ";
-      body << "Same bytes = the OpenCL and reference results are bit-identical (integer splats, float "
-              "convolution in a fixed order with contraction off, geometry in double).\n\n";
+      body << "Same bytes = the OpenCL and reference results are bit-identical (integer splats, exact "
+              "integer convolution, geometry in double with contraction off).\n\n";
+    }
+    // The same program on a GPU: records of an earlier run on a machine with one (not this run; see
+    // --gpu-results), shown so that the GPU path has figures at all.
+    if (a.has("gpu-results")) {
+      std::ifstream in(a.get("gpu-results"));
+      std::vector<json> gpu;
+      for (std::string line; std::getline(in, line);)
+        if (!line.empty() && line[0] == '{') gpu.push_back(json::parse(line));
+      const auto pick = [&](const std::string& bench, const std::string& label,
+                            const std::string& backend) -> const json* {
+        for (const json& r : gpu)
+          if (r.value("bench", "") == bench && r.value("label", "") == label &&
+              (backend.empty() || r.value("backend", "") == backend))
+            return &r;
+        return nullptr;
+      };
+      std::string device;
+      for (const json& r : gpu)
+        if (r.value("backend", "") == "opencl") device = r.value("device", "");
+      if (!gpu.empty()) {
+        body << "### The same benchmark on a GPU (" << device
+             << "; an earlier, separate run of `bundle_bench`, not this run)\n\n"
+                "Recorded in `"
+             << std::filesystem::path(a.get("gpu-results")).filename().string()
+             << "` with the commands of this section on a machine with that GPU (16-core Xeon host; the "
+                "reference runs on one of its cores; `TRAILSCOPE_OPENCL_PLATFORM=NVIDIA`). "
+                "`test_bundling` passed there under `TRAILSCOPE_OPENCL_STRICT=1`, so every kernel is "
+                "bit-identical to its reference on the GPU too.\n\n"
+                "| data | polylines | GPU p50 | reference p50 | speed-up | resample | splat | convolve | "
+                "advect | smooth | post (host) | same bytes |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const json& c : gpu) {
+          if (c.value("bench", "") != "bundle_compare") continue;
+          const std::string label = c.value("label", "");
+          const json* o = pick("bundle", label, "opencl");
+          const json* r = pick("bundle", label, "cpu");
+          body << "| " << label << " | " << grouped(o, "edges") << " | **" << ms(o, "ms_p50") << " ms** | "
+               << ms(r, "ms_p50") << " ms | " << ratio(dbl(r, "ms_p50") / dbl(o, "ms_p50"), "reference")
+               << " | " << ms(o, "resample_ms_p50") << " | " << ms(o, "splat_ms_p50") << " | "
+               << ms(o, "convolve_ms_p50") << " | " << ms(o, "advect_ms_p50") << " | "
+               << ms(o, "smooth_ms_p50") << " | " << ms(o, "post_ms_p50") << " | "
+               << (c.value("identical", false) ? "yes" : "**NO**") << " |\n";
+        }
+        body << "\n";
+      }
     }
 
     // ---- assemble ----------------------------------------------------------------------------------

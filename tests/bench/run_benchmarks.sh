@@ -309,5 +309,7 @@ meta other_cpu_s "$OTHER_S"
 meta other_cpu_pct "$OTHER_PCT"
 meta duration_s "$(($(date +%s) - T_START))"
 say "report → $REPORT"
-"$B/bench_report" --results "$RESULTS" --meta "$META" --commands "$CMDS" --out "$ROOT/$REPORT"
+GPU_ARGS=()
+[ -f tests/bench/gpu_h100_bundle.jsonl ] && GPU_ARGS=(--gpu-results tests/bench/gpu_h100_bundle.jsonl)
+"$B/bench_report" --results "$RESULTS" --meta "$META" --commands "$CMDS" --out "$ROOT/$REPORT" "${GPU_ARGS[@]}"
 echo "done in $(($(date +%s) - T_START)) s; raw results in $RESULTS" >&2

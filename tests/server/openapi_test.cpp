@@ -78,6 +78,16 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxGraphUploadBytes", double(L::kMaxGraphUploadBytes)},
       {"kMaxStoredBundles", double(L::kMaxStoredBundles)},
       {"kMaxBundleImagePx", L::kMaxBundleImagePx},
+      {"kMaxRunBytes", double(L::kMaxRunBytes)},
+      {"kMaxRunRows", double(L::kMaxRunRows)},
+      {"kMaxRunFrames", double(L::kMaxRunFrames)},
+      {"kMaxObjectsPerFrame", double(L::kMaxObjectsPerFrame)},
+      {"kMaxTrackIds", double(L::kMaxTrackIds)},
+      {"kMaxVideoFrames", double(L::kMaxVideoFrames)},
+      {"kMaxVideoPixels", double(L::kMaxVideoPixels)},
+      {"kMaxVideoUploadBytes", double(L::kMaxVideoUploadBytes)},
+      {"kMaxVideoManifestBytes", double(L::kMaxVideoManifestBytes)},
+      {"kMaxVideoLoadBytes", double(L::kMaxVideoLoadBytes)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

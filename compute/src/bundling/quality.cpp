@@ -2,7 +2,10 @@
 // displacement of the drawn points from their originals.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "bundling/result.hpp"
@@ -32,29 +35,48 @@ std::uint64_t ink_pixels(const Polylines& px, int size) {
   if (size < 1 || size > density::kMaxCanvasPx)
     throw invalid_argument("size", "size must be in 1.." + std::to_string(density::kMaxCanvasPx) + " px");
   const density::Canvas canvas(0, 0, kUnitsPerPx, size, size);
-  // Segments prepared in fixed chunks of polylines in parallel (a million-edge bundle has tens of
-  // millions of segments), concatenated in chunk order.
-  constexpr std::size_t kChunk = 4096;
-  const std::size_t chunks = (px.size() + kChunk - 1) / kChunk;
-  std::vector<density::LineSegments> parts(chunks, density::LineSegments::for_canvas(canvas, false));
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t e = c * kChunk; e < std::min(px.size(), (c + 1) * kChunk); ++e)
+  const std::size_t pixels = static_cast<std::size_t>(size) * size;
+  // Parts of consecutive polylines, each prepared and rasterised by one thread into its own coverage
+  // grid (covered or not: OR-ed, so the result does not depend on the threads), while its segments are
+  // still in cache. A million-edge bundle has tens of millions of segments: preparing them all first
+  // (48 bytes each) and rasterising them in one call cost more in memory traffic and page faults than
+  // the walk itself. A part holds at least pixels / 16 points, so that the per-part cost of a grid
+  // (density_lines_ref's result, size² counts) stays small beside its walks; below 16384 segments
+  // density_lines_ref walks them on the calling thread.
+  const std::size_t part_points = std::max<std::size_t>(16384, pixels / 16);
+  auto prepare = [&](std::size_t e0, std::size_t e1) {
+    density::LineSegments s = density::LineSegments::for_canvas(canvas, false);
+    for (std::size_t e = e0; e < e1; ++e)
       for (std::size_t k = px.begin(e); k + 1 < px.end(e); ++k)
-        density::append_segment(parts[c], canvas, to_units(px.x[k], px.y[k]),
-                                to_units(px.x[k + 1], px.y[k + 1]), k > px.begin(e));
-  });
-  density::LineSegments s = density::LineSegments::for_canvas(canvas, false);
-  std::size_t walk = 0, cells = 0;
-  for (const auto& part : parts) walk += part.walk.size(), cells += part.cells.size();
-  s.walk.reserve(walk), s.cells.reserve(cells);
-  for (const auto& part : parts) {
-    s.walk.insert(s.walk.end(), part.walk.begin(), part.walk.end());
-    s.cells.insert(s.cells.end(), part.cells.begin(), part.cells.end());
+        density::append_segment(s, canvas, to_units(px.x[k], px.y[k]), to_units(px.x[k + 1], px.y[k + 1]),
+                                k > px.begin(e));
+    return s;
+  };
+  // Few points (a classic graph): one part, counted directly (no coverage grids to merge).
+  if (px.points() <= 4 * part_points) {
+    const density::Aggregate a = density::density_lines_ref(prepare(0, px.size()));
+    return static_cast<std::uint64_t>(
+        std::count_if(a.count.begin(), a.count.end(), [](std::int32_t c) { return c > 0; }));
   }
-  parts.clear();
-  const density::Aggregate a = density::density_lines_ref(s);
-  return static_cast<std::uint64_t>(
-      std::count_if(a.count.begin(), a.count.end(), [](std::int32_t c) { return c > 0; }));
+  std::vector<std::size_t> part_begin{0};  // first polyline of each part
+  for (std::size_t e = 0, points = 0; e < px.size(); ++e) {
+    points += px.end(e) - px.begin(e);
+    if (points >= part_points && e + 1 < px.size()) part_begin.push_back(e + 1), points = 0;
+  }
+  part_begin.push_back(px.size());
+  tbb::enumerable_thread_specific<std::vector<std::uint8_t>> covered(
+      [&] { return std::vector<std::uint8_t>(pixels, 0); });
+  tbb::parallel_for(std::size_t{0}, part_begin.size() - 1, [&](std::size_t part) {
+    const density::LineSegments s = prepare(part_begin[part], part_begin[part + 1]);
+    if (s.size() == 0) return;
+    const density::Aggregate a = density::density_lines_ref(s);
+    std::vector<std::uint8_t>& c = covered.local();
+    for (std::size_t p = 0; p < pixels; ++p) c[p] |= a.count[p] > 0;
+  });
+  std::vector<std::uint8_t> all(pixels, 0);
+  for (const auto& c : covered)
+    for (std::size_t p = 0; p < pixels; ++p) all[p] |= c[p];
+  return static_cast<std::uint64_t>(std::count(all.begin(), all.end(), std::uint8_t{1}));
 }
 
 namespace detail {

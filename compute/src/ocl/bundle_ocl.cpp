@@ -6,6 +6,11 @@
 // convolution to the splatted box is read by the kernels from the device, so it costs no round trip.
 // Each call gets its own kernel objects and queue (clSetKernelArg is not thread-safe; see
 // profiling_queue()).
+//
+// Work sizes (bundle.cl, top): on a GPU one work-item per edge/point in work-groups of kGroup, the splat
+// with atomics; on a CPU device (PoCL) resampling and smoothing as a few contiguous ranges per compute
+// unit, one work-item each, and the splat into private images summed afterwards (PoCL's atomics are
+// locked read-modify-writes), advection too as ranges (advect_ranges).
 #include <algorithm>
 #include <array>
 #include <cstdlib>
@@ -74,14 +79,20 @@ class DeviceBundle {
     k_count_ = cl::Kernel(prog, "resample_count");
     k_place_ = cl::Kernel(prog, "resample_place");
     k_splat_ = cl::Kernel(prog, "splat");
+    k_splat_private_ = cl::Kernel(prog, "splat_private");
+    k_splat_reduce_ = cl::Kernel(prog, "splat_reduce");
     k_clear_ = cl::Kernel(prog, "splat_clear");
     k_rows_ = cl::Kernel(prog, "convolve_rows");
     k_cols_ = cl::Kernel(prog, "convolve_cols");
+    k_col_bands_ = cl::Kernel(prog, "convolve_col_bands");
     k_advect_ = cl::Kernel(prog, "advect");
+    k_advect_ranges_ = cl::Kernel(prog, "advect_ranges");
     k_smooth_ = cl::Kernel(prog, "smooth");
     k_dirs_ = cl::Kernel(prog, "directions");
     k_sites_ = cl::Kernel(prog, "site_map");
     k_adv_dir_ = cl::Kernel(prog, "advect_directional");
+    coarse_ = (ctx.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
+    units_ = std::max<std::size_t>(ctx.device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(), 1);
   }
 
   // Commands may still read host memory of this object (non-blocking write of host_offsets_) when a call
@@ -164,7 +175,7 @@ class DeviceBundle {
     k_count_.setArg(arg++, static_cast<cl_uint>(edges_));
     k_count_.setArg(arg++, a.spl);
     k_count_.setArg(arg++, counts_);
-    run1d(k_count_, edges_);
+    run_chunked(k_count_, arg, edges_);
     std::vector<std::uint32_t> counts(edges_);
     queue_.enqueueReadBuffer(counts_, CL_TRUE, 0, edges_ * sizeof(cl_uint), counts.data(), nullptr, event());
     host_offsets_ = bundling::detail::resample_offsets(counts);  // throws payload_too_large
@@ -188,7 +199,7 @@ class DeviceBundle {
     k_place_.setArg(arg++, y_[nxt]);
     k_place_.setArg(arg++, z_[nxt]);
     k_place_.setArg(arg++, edge_[nxt]);
-    run1d(k_place_, edges_);
+    run_chunked(k_place_, arg, edges_);
     cur_ = nxt;
     n_ = total;
   }
@@ -201,6 +212,7 @@ class DeviceBundle {
     run1d(k_clear_, static_cast<std::size_t>(size_));
     bi_ = 1 - bi_;
     if (n_ == 0) return;
+    if (coarse_) return splat_private();
     int arg = 0;
     k_splat_.setArg(arg++, x_[cur_]);
     k_splat_.setArg(arg++, y_[cur_]);
@@ -213,29 +225,86 @@ class DeviceBundle {
     run1d(k_splat_, n_);
   }
 
-  // One work-item per row, then per column; the kernels read the box from the device.
+  // CPU form: `parts` ranges of points, each splatted by one work-item into its own image (the first
+  // into img_), then the other images summed into img_ over the box. Summing costs (parts − 1) × box
+  // pixels, so there are only as many parts as the points pay for: one per `pixels` points, at most one
+  // per compute unit, and the partial images within kMaxPartialBytes.
+  void splat_private() {
+    const std::size_t pixels = static_cast<std::size_t>(size_) * size_;
+    constexpr std::size_t kMaxPartialBytes = std::size_t{64} << 20;
+    const std::size_t parts = std::clamp<std::size_t>(
+        std::min(n_ / pixels, kMaxPartialBytes / (pixels * sizeof(cl_uint)) + 1), 1, units_);
+    if (parts > 1 && partials_count_ < parts - 1) {
+      partials_ = make_buffer(CL_MEM_READ_WRITE, (parts - 1) * pixels * sizeof(cl_uint));
+      queue_.enqueueFillBuffer(partials_, cl_uint{0}, 0, (parts - 1) * pixels * sizeof(cl_uint), nullptr,
+                               event());
+      partials_count_ = parts - 1;
+    }
+    int arg = 0;
+    k_splat_private_.setArg(arg++, x_[cur_]);
+    k_splat_private_.setArg(arg++, y_[cur_]);
+    k_splat_private_.setArg(arg++, edge_[cur_]);
+    k_splat_private_.setArg(arg++, static_cast<cl_uint>(n_));
+    k_splat_private_.setArg(arg++, weights_);
+    k_splat_private_.setArg(arg++, static_cast<cl_int>(size_));
+    k_splat_private_.setArg(arg++, img_);
+    k_splat_private_.setArg(arg++, parts > 1 ? partials_ : img_);  // not written with one part
+    k_splat_private_.setArg(arg++, box_[bi_]);
+    const std::size_t chunk = (n_ + parts - 1) / parts;
+    k_splat_private_.setArg(arg++, static_cast<cl_uint>(chunk));
+    queue_.enqueueNDRangeKernel(k_splat_private_, cl::NullRange, cl::NDRange((n_ + chunk - 1) / chunk),
+                                cl::NDRange(1), nullptr, event());
+    if (parts == 1) return;
+    arg = 0;
+    k_splat_reduce_.setArg(arg++, img_);
+    k_splat_reduce_.setArg(arg++, partials_);
+    k_splat_reduce_.setArg(arg++, static_cast<cl_uint>((n_ + chunk - 1) / chunk - 1));
+    k_splat_reduce_.setArg(arg++, static_cast<cl_int>(size_));
+    k_splat_reduce_.setArg(arg++, box_[bi_]);
+    run1d(k_splat_reduce_, static_cast<std::size_t>(size_));
+  }
+
+  // Rows, then columns; the kernels read the box from the device. GPU: one work-item per row, then per
+  // column (in lock step). CPU: ranges of rows, then bands of columns (convolve_col_bands).
   void convolve(int radius) {
-    for (cl::Kernel* k : {&k_rows_, &k_cols_}) {
-      k->setArg(0, k == &k_rows_ ? img_ : rows_);
-      k->setArg(1, static_cast<cl_int>(size_));
-      k->setArg(2, box_[bi_]);
-      k->setArg(3, static_cast<cl_int>(radius));
-      k->setArg(4, k == &k_rows_ ? rows_ : dens_);
-      run1d(*k, static_cast<std::size_t>(size_));
+    k_rows_.setArg(0, img_);
+    k_rows_.setArg(1, static_cast<cl_int>(size_));
+    k_rows_.setArg(2, box_[bi_]);
+    k_rows_.setArg(3, static_cast<cl_int>(radius));
+    k_rows_.setArg(4, rows_);
+    run_chunked(k_rows_, 5, static_cast<std::size_t>(size_));
+    cl::Kernel& k = coarse_ ? k_col_bands_ : k_cols_;
+    k.setArg(0, rows_);
+    k.setArg(1, static_cast<cl_int>(size_));
+    k.setArg(2, box_[bi_]);
+    k.setArg(3, static_cast<cl_int>(radius));
+    k.setArg(4, dens_);
+    if (coarse_) {
+      constexpr std::size_t kBand = 16;  // BAND in bundle.cl
+      queue_.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((size_ + kBand - 1) / kBand), cl::NDRange(1),
+                                  nullptr, event());
+    } else {
+      run1d(k, static_cast<std::size_t>(size_));
     }
   }
 
+  // GPU: one point per work-item (bundle.cl advect); CPU: ranges of points (advect_ranges, which PoCL
+  // compiles several times faster).
   void advect(double step) {
     if (n_ == 0) return;
+    cl::Kernel& k = coarse_ ? k_advect_ranges_ : k_advect_;
     int arg = 0;
-    k_advect_.setArg(arg++, x_[cur_]);
-    k_advect_.setArg(arg++, y_[cur_]);
-    k_advect_.setArg(arg++, z_[cur_]);
-    k_advect_.setArg(arg++, static_cast<cl_uint>(n_));
-    k_advect_.setArg(arg++, dens_);
-    k_advect_.setArg(arg++, static_cast<cl_int>(size_));
-    k_advect_.setArg(arg++, step);
-    run1d(k_advect_, n_);
+    k.setArg(arg++, x_[cur_]);
+    k.setArg(arg++, y_[cur_]);
+    k.setArg(arg++, z_[cur_]);
+    k.setArg(arg++, static_cast<cl_uint>(n_));
+    k.setArg(arg++, dens_);
+    k.setArg(arg++, static_cast<cl_int>(size_));
+    k.setArg(arg++, step);
+    if (coarse_)
+      run_chunked(k, arg, n_);
+    else
+      run1d(k, n_);
   }
 
   // Ping-pong: each pass reads the current x, y and writes the other set's, which then becomes current
@@ -257,7 +326,7 @@ class DeviceBundle {
       k_smooth_.setArg(arg++, lambda);
       k_smooth_.setArg(arg++, x_[dst]);
       k_smooth_.setArg(arg++, y_[dst]);
-      run1d(k_smooth_, n_);
+      run_chunked(k_smooth_, arg, n_);
     }
     if (passes % 2 == 1) {
       // The result is in the other set's x, y: swap just those, so z/edge/offsets stay with `cur_`.
@@ -370,6 +439,23 @@ class DeviceBundle {
     }
   }
 
+  // A kernel of bundle.cl's ranged form over n items (edges or points); `chunk_arg` is the index of its
+  // `chunk` argument. GPU: chunk 1, work-groups of kGroup. CPU: kRangesPerUnit ranges per compute unit
+  // (a few, so that a core slowed by other work leaves less for the others to wait on), work-groups of
+  // one work-item, so that PoCL hands out whole ranges to its threads.
+  void run_chunked(cl::Kernel& k, cl_uint chunk_arg, std::size_t n) {
+    if (!coarse_) {
+      k.setArg(chunk_arg, cl_uint{1});
+      return run1d(k, n);
+    }
+    constexpr std::size_t kRangesPerUnit = 4;
+    const std::size_t chunk =
+        std::max<std::size_t>((n + kRangesPerUnit * units_ - 1) / (kRangesPerUnit * units_), 1);
+    k.setArg(chunk_arg, static_cast<cl_uint>(chunk));
+    queue_.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + chunk - 1) / chunk), cl::NDRange(1),
+                                nullptr, event());
+  }
+
   void run1d(cl::Kernel& k, std::size_t n) {
     queue_.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n)), cl::NDRange(kGroup), nullptr,
                                 event());
@@ -386,6 +472,11 @@ class DeviceBundle {
   Phase phase_ = kOther;
   std::deque<std::pair<Phase, cl::Event>> events_;  // deque: the slots must not move
   int bi_ = 0;                                      // box_[bi_]: the box of the latest splat
+  bool coarse_ = false;                             // a CPU device: ranged work-items, private splat images
+  std::size_t units_ = 1;                           // compute units
+  cl::Buffer partials_;                             // the CPU splat's partial images (zeros between splats)
+  std::size_t partials_count_ = 0;
+  cl::Kernel k_splat_private_, k_splat_reduce_, k_advect_ranges_, k_col_bands_;
   cl::Kernel k_count_, k_place_, k_clear_, k_splat_, k_rows_, k_cols_, k_advect_, k_smooth_, k_dirs_,
       k_sites_, k_adv_dir_;
   cl::Buffer dirs_;
@@ -467,19 +558,21 @@ void bundle_warm_up() {
   // no reason to fail the other ops' warm-up.
   const DeviceContext* ctx = device_context();
   if (!ctx || !unsupported(*ctx).empty()) return;
-  // A few short edges, both advection variants: builds the program and makes PoCL compile every kernel
-  // at the work-group size used (its first enqueue of a kernel costs ~0.1 s otherwise).
+  // A few short edges, both advection variants, and one with more points than pixels (the CPU splat's
+  // partial images and their sum): builds the program and makes PoCL compile every kernel at the
+  // work-group size used (its first enqueue of a kernel costs ~0.1 s otherwise).
   Points in;
-  for (std::uint32_t e = 0; e < 64; ++e) {
+  for (std::uint32_t e = 0; e < 128; ++e) {
     in.x.insert(in.x.end(), {10.0f + e, 100.0f - e});
     in.y.insert(in.y.end(), {20.0f, 90.0f + e});
     in.z.insert(in.z.end(), {1.0f, 1.0f});
     in.edge.insert(in.edge.end(), {e, e});
     in.offsets.push_back(2 * e + 2);
   }
-  for (bool directional : {false, true}) {
+  for (int variant = 0; variant < 3; ++variant) {
     bundling::BundleParams p;
-    p.size = 128, p.iterations = 2, p.directional = directional;
+    p.size = 128, p.iterations = 2, p.directional = variant == 1;
+    if (variant == 2) p.size = 64, p.spl = 1;  // ~20k points on 4096 pixels
     Points out;
     bundling::detail::LoopTimes times;
     const std::string why =

@@ -108,6 +108,45 @@ TEST_F(BundleOcl, SplatAndConvolutionAreBitIdentical) {
   }
 }
 
+// Many points on a small image: on a CPU device the splat then runs as several private images summed
+// (bundle_ocl.cpp splat_private: one part per image's worth of points, up to one per compute unit), and
+// the loop's later splats must find the partial images cleared.
+TEST_F(BundleOcl, DenseSplatIsBitIdentical) {
+  std::mt19937 rng(16);
+  const int size = 24;
+  const Points p = random_points(rng, 2000, 12, -2, 26);
+  ASSERT_GT(p.size(), 8u * size * size);
+  std::vector<std::uint32_t> weights(p.edges());
+  for (auto& w : weights) w = rng() % 1024 + 1;
+  std::vector<std::uint32_t> img(size * size);
+  const detail::Box box = detail::splat(p, weights, size, img);
+  std::vector<std::uint64_t> rows(size * size);
+  std::vector<float> dens(size * size);
+  detail::convolve(img, size, box, 4, rows, dens);
+  std::vector<std::uint32_t> oimg;
+  std::vector<float> odens;
+  detail::Box obox;
+  ASSERT_EQ(ocl::bundle_density_ocl(p, weights, size, 4, oimg, obox, odens), "");
+  EXPECT_EQ(oimg, img);
+  EXPECT_EQ(obox.x0, box.x0);
+  EXPECT_EQ(obox.y1, box.y1);
+  EXPECT_EQ(odens, dens);  // the box covers the image: every value is written
+
+  // The whole loop on a small image with many points: several iterations of splats.
+  std::uniform_real_distribution<double> u(0, 100);
+  Polylines src;
+  for (int e = 0; e < 3000; ++e) src.add_edge(u(rng), u(rng), u(rng), u(rng));
+  BundleParams bp;
+  bp.size = 64, bp.h = 8, bp.spl = 2, bp.iterations = 4;
+  const Frame f = Frame::fit(src, bp.size, bp.border, true);
+  const Polylines px = f.to_pixels(src);
+  const Bundled ref = bundle_ref(px, f, bp);
+  const Bundled dev = bundle(px, f, bp, Backend::opencl);
+  ASSERT_GT(ref.lines.points(), 8u * 64 * 64);
+  EXPECT_EQ(ref.lines.x, dev.lines.x);
+  EXPECT_EQ(ref.lines.y, dev.lines.y);
+}
+
 TEST_F(BundleOcl, AdvectIsBitIdentical) {
   std::mt19937 rng(13);
   const int size = 256;

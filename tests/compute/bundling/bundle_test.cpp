@@ -2,6 +2,7 @@
 // styles, relaxation, quality figures, parameters and errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -9,6 +10,7 @@
 #include "../../../compute/src/bundling/endpoints.hpp"
 #include "trailscope/bundling/bundle.hpp"
 #include "trailscope/core/error.hpp"
+#include "trailscope/density/density_lines.hpp"
 #include "trailscope/core/limits.hpp"
 
 namespace trailscope::bundling {
@@ -294,6 +296,32 @@ TEST(Bundle, InkPixelsCountsCoveredPixels) {
   Polylines out;
   out.add_edge(-10, -10, -5, 40);
   EXPECT_EQ(ink_pixels(out, 32), 0u);
+}
+
+// Many points: ink_pixels rasterises parts of the polylines on several threads and merges their
+// coverage; the count must be that of one rasterisation of every segment (density_lines_ref).
+TEST(Bundle, InkPixelsOfManyPolylinesIsOneRasterisation) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> start(-3, 259), step(-1.5, 1.5);
+  Polylines p;  // short wiggles over (and a little beyond) a 256 px image
+  for (int e = 0; e < 20000; ++e) {
+    std::vector<double> x{start(rng)}, y{start(rng)};
+    for (int i = 1; i < 5; ++i) x.push_back(x.back() + step(rng)), y.push_back(y.back() + step(rng));
+    p.add(x, y);
+  }
+  ASSERT_GT(p.points(), 4u * 16384);  // more than one part (quality.cpp)
+  const int size = 256;
+  const density::Canvas canvas(0, 0, 256, size, size);
+  density::LineSegments s = density::LineSegments::for_canvas(canvas, false);
+  auto units = [](double v) { return static_cast<std::int64_t>(std::llround(v * 256)); };
+  for (std::size_t e = 0; e < p.size(); ++e)
+    for (std::size_t k = p.begin(e); k + 1 < p.end(e); ++k)
+      density::append_segment(s, canvas, {units(p.x[k]), units(p.y[k])},
+                              {units(p.x[k + 1]), units(p.y[k + 1])}, k > p.begin(e));
+  const density::Aggregate a = density::density_lines_ref(s);
+  const auto covered = std::count_if(a.count.begin(), a.count.end(), [](std::int32_t c) { return c > 0; });
+  EXPECT_EQ(ink_pixels(p, size), static_cast<std::uint64_t>(covered));
+  EXPECT_LT(covered, size * size);  // not trivially full
 }
 
 TEST(Bundle, ErrorsNameTheirCause) {
