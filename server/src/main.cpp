@@ -16,6 +16,9 @@ int main(int argc, char** argv) {
   trailscope::cli::add_demo(app);
   trailscope::cli::add_bundle(app);
   trailscope::cli::add_metrics(app);
+  trailscope::cli::add_synth(app);
+  trailscope::cli::add_video(app);
+  trailscope::cli::add_dmd(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

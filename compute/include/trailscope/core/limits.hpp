@@ -99,8 +99,9 @@ inline constexpr std::size_t kMaxVideoFrames = 100'000;
 inline constexpr std::size_t kMaxVideoPixels = 1u << 20;
 /// Largest depth-video upload (a pack file, bytes); the same bound as dataset uploads.
 inline constexpr std::uint64_t kMaxVideoUploadBytes = 2ull << 30;  // 2 GiB
-/// Largest manifest.json (bytes): ~700 bytes a frame with ground truth, so 64 MiB covers kMaxVideoFrames.
-inline constexpr std::uint64_t kMaxVideoManifestBytes = 64ull << 20;
+/// Largest manifest.json (bytes): a frame with ground truth takes up to ~1.1 KB (17-digit numbers, one
+/// line per frame), so kMaxVideoFrames need ~110 MB.
+inline constexpr std::uint64_t kMaxVideoManifestBytes = 256ull << 20;
 /// Most memory one whole-video load may take (frames * pixels * 8 bytes of float depth + amplitude);
 /// longer videos are read frame by frame (DepthVideoReader).
 inline constexpr std::uint64_t kMaxVideoLoadBytes = 4ull << 30;  // 4 GiB
