@@ -474,22 +474,24 @@ int main(int argc, char** argv) {
 
     // ---- 6. bundling -----------------------------------------------------------------------------
     if (!find("bundle").empty()) {
-      body << "## 6. CUBu bundling\n\n"
-              "`bundling::bundle()` (the whole loop on the OpenCL device: resample, splat with integer "
-              "atomics, separable Epanechnikov convolution, advection, Laplacian smoothing; OpenCL on "
-           << m("opencl")
-           << ") against `bundling::bundle_ref()`, the plain single-threaded C++ reference of the same loop, "
-              "at the default parameters (512 px, h = 32, 15 iterations), after one untimed run that builds the "
-              "kernels. Time is one full bundling (the input already fitted to the 512 px image; graph "
-              "parsing not included), relaxation/quality figures included. Phases are the OpenCL path's "
-              "medians. Targets (issue 3): US airlines ≤ 40 ms, US migrations ≤ 100 ms, 1M edges ≤ 15 s, "
-              "OpenCL ≥ 3× faster than the reference. For scale (research note, same kind of machine): a "
-              "JavaScript FDEB (d3.ForceBundle) takes about 6.7 s and a JavaScript KDEEB about 2.0 s on the "
-              "airlines graph.\n\n"
-              "| data | polylines | points (in → bundled) | OpenCL p50 | reference p50 | **speed-up** | "
-              "resample | splat | convolve | advect | smooth | post | ink reduction | mean / max displacement "
-              "| same bytes |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      body
+          << "## 6. CUBu bundling\n\n"
+             "`bundling::bundle()` (the whole loop on the OpenCL device: resample, splat with integer "
+             "atomics, separable Epanechnikov convolution, advection, Laplacian smoothing; OpenCL on "
+          << m("opencl")
+          << ") against `bundling::bundle_ref()`, the plain single-threaded C++ reference of the same loop, "
+             "at the default parameters (512 px, h = 32, 15 iterations), after one untimed run that builds "
+             "the "
+             "kernels. Time is one full bundling (the input already fitted to the 512 px image; graph "
+             "parsing not included), relaxation/quality figures included. Phases are the OpenCL path's "
+             "medians. Targets (issue 3): US airlines ≤ 40 ms, US migrations ≤ 100 ms, 1M edges ≤ 15 s, "
+             "OpenCL ≥ 3× faster than the reference. For scale (research note, same kind of machine): a "
+             "JavaScript FDEB (d3.ForceBundle) takes about 6.7 s and a JavaScript KDEEB about 2.0 s on the "
+             "airlines graph.\n\n"
+             "| data | polylines | points (in → bundled) | OpenCL p50 | reference p50 | **speed-up** | "
+             "resample | splat | convolve | advect | smooth | post | ink reduction | mean / max displacement "
+             "| same bytes |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
       for (const json* c : find("bundle_compare")) {
         const std::string label = str(c, "label");
         const json* o = find1("bundle", {{"label", label}, {"backend", "opencl"}});
@@ -502,20 +504,22 @@ int main(int argc, char** argv) {
         };
         body << "| " << label << " | " << grouped(q, "edges") << " | " << grouped(q, "input_points") << " → "
              << grouped(q, "bundled_points") << " | **" << pretty_ms(o, "ms_p50") << "** (" << str(o, "ms_n")
-             << " runs) | " << pretty_ms(r, "ms_p50") << " (" << str(r, "ms_n") << ") | **" << ratio(sp, "reference")
-             << "** | " << ms(o, "resample_ms_p50") << " | " << ms(o, "splat_ms_p50") << " | "
-             << ms(o, "convolve_ms_p50") << " | " << ms(o, "advect_ms_p50") << " | " << ms(o, "smooth_ms_p50")
-             << " | " << ms(o, "post_ms_p50") << " | " << num(100 * dbl(q, "ink_reduction"), 1) << " % | "
-             << num(dbl(q, "mean_displacement_px"), 1) << " / " << num(dbl(q, "max_displacement_px"), 1)
-             << " px | " << (c->contains("identical") ? ((*c)["identical"].get<bool>() ? "yes" : "**NO**") : "–")
+             << " runs) | " << pretty_ms(r, "ms_p50") << " (" << str(r, "ms_n") << ") | **"
+             << ratio(sp, "reference") << "** | " << ms(o, "resample_ms_p50") << " | "
+             << ms(o, "splat_ms_p50") << " | " << ms(o, "convolve_ms_p50") << " | " << ms(o, "advect_ms_p50")
+             << " | " << ms(o, "smooth_ms_p50") << " | " << ms(o, "post_ms_p50") << " | "
+             << num(100 * dbl(q, "ink_reduction"), 1) << " % | " << num(dbl(q, "mean_displacement_px"), 1)
+             << " / " << num(dbl(q, "max_displacement_px"), 1) << " px | "
+             << (c->contains("identical") ? ((*c)["identical"].get<bool>() ? "yes" : "**NO**") : "–")
              << " |\n";
         const std::map<std::string, std::pair<double, std::string>> budgets = {
-            {"us_airlines", {40, "≤ 40 ms"}}, {"us_migrations", {100, "≤ 100 ms"}},
+            {"us_airlines", {40, "≤ 40 ms"}},
+            {"us_migrations", {100, "≤ 100 ms"}},
             {"generated_1m", {15000, "≤ 15 s"}}};
         if (auto it = budgets.find(label); it != budgets.end() && o) {
           const bool ok = dbl(o, "ms_p50") <= it->second.first;
-          targets.push_back({"bundling", "bundle " + label + " (OpenCL)", it->second.second,
-                             pretty_ms(o, "ms_p50"), ok});
+          targets.push_back(
+              {"bundling", "bundle " + label + " (OpenCL)", it->second.second, pretty_ms(o, "ms_p50"), ok});
         }
         if (o && r)
           targets.push_back({"bundling", "bundle " + label + ": OpenCL vs single-threaded reference", "≥ 3×",
@@ -554,7 +558,8 @@ int main(int argc, char** argv) {
                 "`test_bundling` passed there under `TRAILSCOPE_OPENCL_STRICT=1`, so every kernel is "
                 "bit-identical to its reference on the GPU too.\n\n"
                 "| data | polylines | GPU p50 | reference p50 | speed-up | resample | splat | convolve | "
-                "advect | smooth | post (host) | same bytes |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+                "advect | smooth | post (host) | same bytes "
+                "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         for (const json& c : gpu) {
           if (c.value("bench", "") != "bundle_compare") continue;
           const std::string label = c.value("label", "");

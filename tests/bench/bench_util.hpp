@@ -564,9 +564,9 @@ inline json load_peer(ClickHouse& ch, const std::string& base, const trailscope:
   return rec;
 }
 
-/// The WHERE clause equivalent to PointFilter (trails/point_filter.hpp) (ClickHouse compares Float32 columns with Float64
-/// literals exactly, as C++ promotes float to double). `with_key` adds predicates that do not change the
-/// result but let the primary key skip granules: the Morton ranges of the tiles covering the bbox.
+/// The WHERE clause equivalent to PointFilter (trails/point_filter.hpp) (ClickHouse compares Float32 columns
+/// with Float64 literals exactly, as C++ promotes float to double). `with_key` adds predicates that do not
+/// change the result but let the primary key skip granules: the Morton ranges of the tiles covering the bbox.
 inline std::string peer_where(const trailscope::Query& q, bool with_key) {
   std::vector<std::string> c;
   if (q.t0) c.push_back("t >= " + lit(*q.t0));

@@ -34,7 +34,8 @@ bd::Polylines random_graph(std::size_t edges, std::uint64_t seed) {
   std::vector<double> nx, ny;
   for (std::size_t c = 0; c < clusters; ++c) {
     const double cx = uni(rng), cy = uni(rng) * 0.6;
-    for (std::size_t k = 0; k < per_cluster; ++k) nx.push_back(cx + spread(rng)), ny.push_back(cy + spread(rng));
+    for (std::size_t k = 0; k < per_cluster; ++k)
+      nx.push_back(cx + spread(rng)), ny.push_back(cy + spread(rng));
   }
   std::uniform_int_distribution<std::size_t> pick(0, nx.size() - 1);
   bd::Polylines g;
@@ -57,7 +58,8 @@ Run time_runs(const bd::Polylines& px, const bd::Frame& frame, const bd::BundleP
   Run r;
   for (int i = 0; i < reps; ++i) {
     const auto t0 = Clock::now();
-    bd::Bundled b = backend == ts::Backend::cpu ? bd::bundle_ref(px, frame, p) : bd::bundle(px, frame, p, backend);
+    bd::Bundled b =
+        backend == ts::Backend::cpu ? bd::bundle_ref(px, frame, p) : bd::bundle(px, frame, p, backend);
     r.total.push_back(ms_since(t0));
     r.resample.push_back(b.times.resample_ms), r.splat.push_back(b.times.splat_ms);
     r.convolve.push_back(b.times.convolve_ms), r.advect.push_back(b.times.advect_ms);
@@ -86,8 +88,9 @@ void emit_run(const std::string& label, const std::string& backend, const bd::Po
          {"peak_rss_mib", peak_rss_mib()}};
   Stats::of(r.total).put(j, "ms_");
   const std::pair<const char*, const std::vector<double>*> phases[] = {
-      {"resample", &r.resample}, {"splat", &r.splat},         {"convolve", &r.convolve}, {"advect", &r.advect},
-      {"smooth", &r.smooth},     {"endpoints", &r.endpoints}, {"post", &r.post}};
+      {"resample", &r.resample}, {"splat", &r.splat},   {"convolve", &r.convolve},
+      {"advect", &r.advect},     {"smooth", &r.smooth}, {"endpoints", &r.endpoints},
+      {"post", &r.post}};
   for (const auto& [name, v] : phases) j[std::string(name) + "_ms_p50"] = Stats::of(*v).p50;
   emit(j);
 }

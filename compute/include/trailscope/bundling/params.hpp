@@ -26,32 +26,32 @@ enum class Profile {
 };
 
 struct BundleParams {
-  int size = 512;             ///< density image edge, px (fboSize); 64..4096
-  double h = 32;              ///< initial kernel radius, px; 2..128 (257 taps at most)
-  int iterations = 15;        ///< niter; 1..100. The kernel shrinks by (2/h)^(1/iterations) each time
-  double eps = 0.5;           ///< advection step as a fraction of the current kernel radius; (0, 2]
-  double lambda = 0.2;        ///< Laplacian smoothing strength; 0..1
+  int size = 512;               ///< density image edge, px (fboSize); 64..4096
+  double h = 32;                ///< initial kernel radius, px; 2..128 (257 taps at most)
+  int iterations = 15;          ///< niter; 1..100. The kernel shrinks by (2/h)^(1/iterations) each time
+  double eps = 0.5;             ///< advection step as a fraction of the current kernel radius; (0, 2]
+  double lambda = 0.2;          ///< Laplacian smoothing strength; 0..1
   double smooth_kernel = 0.05;  ///< Laplacian half-window as a fraction of `size`; 0..0.5
-  int smooth_iterations = 1;  ///< Laplacian passes (liter); odd, 1..15
-  double spl = 15;            ///< resampling step, px; 1..256
-  double jitter = 0.25;       ///< sample jitter as a fraction of spl; 0..1
-  std::uint64_t seed = 1;     ///< jitter seed: the same input, parameters and seed give the same bytes
+  int smooth_iterations = 1;    ///< Laplacian passes (liter); odd, 1..15
+  double spl = 15;              ///< resampling step, px; 1..256
+  double jitter = 0.25;         ///< sample jitter as a fraction of spl; 0..1
+  std::uint64_t seed = 1;       ///< jitter seed: the same input, parameters and seed give the same bytes
   DensityMode density = DensityMode::weighted;
   Profile profile = Profile::uniform;
   bool block_endpoints = true;  ///< endpoints never move (profile 0 at both ends)
   bool polyline_style = false;  ///< resample only in the first iteration
   double border = 0.1;          ///< fraction of `size` left empty around a fitted drawing; 0..0.45
   // endpoint mean-shift clustering (off when ms_iterations = 0)
-  int ms_iterations = 0;      ///< niter_ms; 0..50
-  double ms_h = 32;           ///< initial mean-shift kernel radius, px; 2..128
-  double lambda_ends = 0.5;   ///< smoothing of the end segments after clustering; 0..1
+  int ms_iterations = 0;     ///< niter_ms; 0..50
+  double ms_h = 32;          ///< initial mean-shift kernel radius, px; 2..128
+  double lambda_ends = 0.5;  ///< smoothing of the end segments after clustering; 0..1
   // directional bundling: the direction of each point is kept in its own field
-  bool directional = false;   ///< parallel edges attract, antiparallel ones repel (tangent)
-  double repulsion = 1;       ///< strength of the repulsion of antiparallel edges (rep_strength); 0..10
+  bool directional = false;  ///< parallel edges attract, antiparallel ones repel (tangent)
+  double repulsion = 1;      ///< strength of the repulsion of antiparallel edges (rep_strength); 0..10
   // post-processing (cheap; the client can also redo relaxation without recomputing)
-  double relaxation = 0;        ///< 0 = fully bundled, 1 = the original edges; 0..1
+  double relaxation = 0;          ///< 0 = fully bundled, 1 = the original edges; 0..1
   double max_displacement = 0.2;  ///< cap of a point's displacement, fraction of its edge's length; 0..10
-  double dir_separation = 0;    ///< lane offset of the two directions of a bundle, px; 0..50
+  double dir_separation = 0;      ///< lane offset of the two directions of a bundle, px; 0..50
 
   /// Throws invalid_argument naming the first parameter out of range (its name as in parameter_names()).
   void validate() const;
