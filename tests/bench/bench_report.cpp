@@ -476,8 +476,9 @@ int main(int argc, char** argv) {
     if (!find("bundle").empty()) {
       body
           << "## 6. CUBu bundling\n\n"
-             "`bundling::bundle()` (the whole loop on the OpenCL device: resample, splat with integer "
-             "atomics, separable Epanechnikov convolution, advection, Laplacian smoothing; OpenCL on "
+             "`bundling::bundle()` (the whole loop on the OpenCL device: resample, splat into integer "
+             "images (atomics on a GPU, one image per range of points on a CPU device), separable "
+             "Epanechnikov convolution, advection, Laplacian smoothing; OpenCL on "
           << m("opencl")
           << ") against `bundling::bundle_ref()`, the plain single-threaded C++ reference of the same loop, "
              "at the default parameters (512 px, h = 32, 15 iterations), after one untimed run that builds "
