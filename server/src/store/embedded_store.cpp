@@ -1,4 +1,3 @@
-#include "trailscope/core/json_text.hpp"
 #include "store/embedded_store.hpp"
 #include "store/column_io.hpp"
 
@@ -82,13 +81,7 @@ void EmbeddedStore::write_dataset(const Dataset& ds, const fs::path& dir) {
       {"ingest", ds.ingest}, {"points", p.size()},        {"flights", t.num_flights()},
       {"icao24", icao},      {"callsign", callsign}};
   // The manifest is written last: a folder without it is incomplete by definition.
-  const fs::path mp = dir / "manifest.json";
-  std::ofstream out(mp, std::ios::trunc);
-  out << json_text(manifest);
-  out.close();
-  if (!out) throw io_error(mp, "write");
-  fsync_path(mp);
-  fsync_path(dir);
+  column_io::write_manifest(dir, manifest);
 }
 
 std::shared_ptr<Dataset> EmbeddedStore::read_dataset(const fs::path& dir) {

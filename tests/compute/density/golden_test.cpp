@@ -4,6 +4,8 @@
 // shading (eq_hist interpolation, KDE sums). Set TRAILSCOPE_UPDATE_GOLDEN=1 to rewrite them.
 #include <gtest/gtest.h>
 
+#include "golden.hpp"
+
 #include <cmath>
 #include <cstdlib>
 
@@ -12,29 +14,7 @@
 namespace trailscope::density {
 namespace {
 
-void compare_with_golden(const Image& img, const std::string& name) {
-  const auto path = test::source_dir() / "tests" / "golden" / name;
-  if (const char* u = std::getenv("TRAILSCOPE_UPDATE_GOLDEN"); u && std::string(u) == "1") {
-    write_png(img, path);
-    std::printf("wrote %s\n", path.c_str());
-    return;
-  }
-  ASSERT_TRUE(std::filesystem::exists(path)) << path << " is missing (TRAILSCOPE_UPDATE_GOLDEN=1 writes it)";
-  const Image golden = read_png(path);
-  ASSERT_EQ(golden.width, img.width);
-  ASSERT_EQ(golden.height, img.height);
-  std::size_t off = 0;
-  int worst = 0;
-  for (std::size_t p = 0; p < img.rgba.size() / 4; ++p) {
-    int d = 0;
-    for (int c = 0; c < 4; ++c)
-      d = std::max(d, std::abs(int{img.rgba[4 * p + c]} - int{golden.rgba[4 * p + c]}));
-    worst = std::max(worst, d);
-    off += d > 2;
-  }
-  EXPECT_LE(off, img.rgba.size() / 4 / 1000)
-      << name << ": " << off << " pixels differ by more than 2 (worst " << worst << ")";
-}
+using test::compare_with_golden;
 
 TEST(Golden, EuropeDayTile) {
   const TrailSet* eu = test::europe();
