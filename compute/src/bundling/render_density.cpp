@@ -27,20 +27,7 @@ bool clip(double& x0, double& y0, double& x1, double& y1, double lo_x, double lo
           bool& start_moved, bool& end_moved) {
   double t0 = 0, t1 = 1;
   const double dx = x1 - x0, dy = y1 - y0;
-  auto edge = [&](double p, double q) {  // p·t <= q
-    if (p == 0) return q >= 0;
-    const double r = q / p;
-    if (p < 0) {
-      if (r > t1) return false;
-      t0 = std::max(t0, r);
-    } else {
-      if (r < t0) return false;
-      t1 = std::min(t1, r);
-    }
-    return true;
-  };
-  if (!edge(-dx, x0 - lo_x) || !edge(dx, hi_x - x0) || !edge(-dy, y0 - lo_y) || !edge(dy, hi_y - y0))
-    return false;
+  if (!detail::clip_parameters(x0, y0, dx, dy, lo_x, lo_y, hi_x, hi_y, t0, t1)) return false;
   start_moved = t0 > 0, end_moved = t1 < 1;
   const double ax = x0 + t0 * dx, ay = y0 + t0 * dy, bx = x0 + t1 * dx, by = y0 + t1 * dy;
   x0 = ax, y0 = ay, x1 = bx, y1 = by;

@@ -1,12 +1,32 @@
 #pragma once
 // Private stages of render_bundle (render.hpp, "EXACTLY WHAT IS COMPUTED"): the density maps (steps
 // 2–4 and the lighting of the shaded style) and the line compositor (steps 5–9).
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
 #include "trailscope/bundling/render.hpp"
 
 namespace trailscope::bundling::detail {
+
+/// Liang–Barsky clipping: narrows [t0, t1] to the parameters t of p + t·d that lie in [lo_x, hi_x] ×
+/// [lo_y, hi_y]; false when none do.
+inline bool clip_parameters(double px, double py, double dx, double dy, double lo_x, double lo_y, double hi_x,
+                            double hi_y, double& t0, double& t1) {
+  auto edge = [&](double p, double q) {  // p·t <= q
+    if (p == 0) return q >= 0;
+    const double r = q / p;
+    if (p < 0) {
+      if (r > t1) return false;
+      t0 = std::max(t0, r);
+    } else {
+      if (r < t0) return false;
+      t1 = std::min(t1, r);
+    }
+    return true;
+  };
+  return edge(-dx, px - lo_x) && edge(dx, hi_x - px) && edge(-dy, py - lo_y) && edge(dy, hi_y - py);
+}
 
 /// Relaxed polylines in output pixels, plus what the colours need per point.
 struct ViewLines {

@@ -66,21 +66,7 @@ class Collector {
     const double reach = hw + 0.5;
     // The parameter range of the segment within the image grown by `reach` (Liang–Barsky).
     double t0 = 0, t1 = 1;
-    auto edge = [&](double p, double q) {
-      if (p == 0) return q >= 0;
-      const double r = q / p;
-      if (p < 0) {
-        if (r > t1) return false;
-        t0 = std::max(t0, r);
-      } else {
-        if (r < t0) return false;
-        t1 = std::min(t1, r);
-      }
-      return true;
-    };
-    if (!edge(-dx, px + reach) || !edge(dx, w_ + reach - px) || !edge(-dy, py + reach) ||
-        !edge(dy, h_ + reach - py))
-      return;
+    if (!clip_parameters(px, py, dx, dy, -reach, -reach, w_ + reach, h_ + reach, t0, t1)) return;
     const double length = std::sqrt(len2) * (t1 - t0);
     const int pieces = std::max(1, static_cast<int>(std::ceil(length / kPiece)));
     for (int k = 0; k < pieces; ++k) {
