@@ -2,6 +2,12 @@
 // The real router over a real store in a temporary folder, for in-process route tests.
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
 #include "routes/app.hpp"
 #include "store/embedded_store.hpp"
 #include "test_support.hpp"
@@ -49,6 +55,52 @@ class RouteFixture : public ::testing::Test {
     EXPECT_EQ(j.at("error"), error) << r.body;
     EXPECT_EQ(j.at("param"), param) << r.body;
     EXPECT_FALSE(j.at("detail").get<std::string>().empty());
+  }
+
+  /// Values that break naive parsers (blanks, non-finite, overflowing and hex numbers, negative zero,
+  /// invalid UTF-8, a very long string), followed by `extra`: those a test's routes care about.
+  static std::vector<std::string> garbage_values(std::vector<std::string> extra) {
+    std::vector<std::string> v = {"",
+                                  " ",
+                                  "-1",
+                                  "0",
+                                  "1e309",
+                                  "nan",
+                                  "inf",
+                                  "-inf",
+                                  "99999999999999999999",
+                                  "true",
+                                  "-0",
+                                  "0x10",
+                                  "\xff\xfe",
+                                  std::string(5000, 'x')};
+    v.insert(v.end(), extra.begin(), extra.end());
+    return v;
+  }
+  /// For each path, `rounds` GETs with 1..max_keys random `keys` set to random `values` (seeded, after
+  /// `adjust`): every answer must be below 500, and an error must be {"error","detail","param"}. Returns
+  /// the number of requests.
+  int expect_no_server_errors(const std::vector<std::string>& paths, const std::vector<std::string>& keys,
+                              const std::vector<std::string>& values, int rounds, int max_keys, unsigned seed,
+                              const std::function<void(std::map<std::string, std::string>&)>& adjust = {}) {
+    std::mt19937 rng(seed);
+    int checked = 0;
+    for (const auto& path : paths)
+      for (int round = 0; round < rounds; ++round) {
+        std::map<std::string, std::string> q;
+        const int n = 1 + static_cast<int>(rng() % static_cast<unsigned>(max_keys));
+        for (int k = 0; k < n; ++k) q[keys[rng() % keys.size()]] = values[rng() % values.size()];
+        if (adjust) adjust(q);
+        const Response r = get(path, q);
+        EXPECT_LT(r.status, 500) << path << " " << nlohmann::json(q).dump() << " → " << r.body;
+        if (r.status >= 500) return checked;
+        if (r.status >= 400) {
+          const auto j = body(r);
+          EXPECT_TRUE(j.contains("error") && j.contains("detail") && j.contains("param")) << r.body;
+        }
+        ++checked;
+      }
+    return checked;
   }
 
   trailscope::test::TempDir tmp;
