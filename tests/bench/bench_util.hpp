@@ -478,6 +478,25 @@ inline void check_layout_counts(ClickHouse& ch, const std::string& prefix,
   }
 }
 
+/// True when every table `<prefix><layout>` already holds exactly `n` rows (the same generator options
+/// give the same data, so a table loaded by an earlier program is reused); otherwise (re)creates them all
+/// empty with `columns` and each layout's engine, and returns false.
+inline bool reuse_or_recreate(ClickHouse& ch, const std::string& prefix,
+                              const std::vector<PeerLayout>& layouts, const char* columns, std::size_t n) {
+  bool fresh = true;
+  for (const auto& l : layouts)
+    if (!ch.table_exists(prefix + l.suffix) || ch.count(prefix + l.suffix) != n) fresh = false;
+  if (fresh) {
+    log("ClickHouse: reusing " + prefix + "* (" + std::to_string(n) + " rows)");
+    return true;
+  }
+  for (const auto& l : layouts) {
+    ch.exec("DROP TABLE IF EXISTS " + prefix + l.suffix);
+    ch.exec(std::string("CREATE TABLE ") + prefix + l.suffix + " " + columns + " " + l.engine);
+  }
+  return false;
+}
+
 /// Loads `set` into `<base>_m` and `<base>_hm` unless both already hold exactly its points (the same
 /// generator options give the same set, so a table loaded by an earlier program is reused). The data goes
 /// over HTTP as RowBinary in batches of `batch` rows (exact float bits: no text round trip), into the
@@ -487,20 +506,9 @@ inline json load_peer(ClickHouse& ch, const std::string& base, const trailscope:
                       std::size_t batch = 1u << 20) {
   const std::size_t n = set.num_points();
   json rec = {{"bench", "peer_load"}, {"impl", "clickhouse"}, {"table", base}, {"rows", n}};
-  bool fresh = true;
-  for (const auto& l : peer_layouts()) {
-    const std::string t = base + "_" + l.suffix;
-    if (!ch.table_exists(t) || ch.count(t) != n) fresh = false;
-  }
-  if (fresh) {
+  if (reuse_or_recreate(ch, base + "_", peer_layouts(), kPeerColumns, n)) {
     rec["reused"] = true;
-    log("ClickHouse: reusing " + base + "_* (" + std::to_string(n) + " rows)");
     return rec;
-  }
-  for (const auto& l : peer_layouts()) {
-    const std::string t = base + "_" + l.suffix;
-    ch.exec("DROP TABLE IF EXISTS " + t);
-    ch.exec(std::string("CREATE TABLE ") + t + " " + kPeerColumns + " " + l.engine);
   }
   const auto& p = set.points();
   const auto& mx = set.merc_x();
@@ -826,19 +834,9 @@ inline json load_peer_segments(ClickHouse& ch, const std::string& base, const tr
   std::size_t n = 0;
   for (const auto& f : set.flights()) n += f.end > f.begin ? f.end - f.begin - 1 : 0;
   json rec = {{"bench", "peer_load"}, {"impl", "clickhouse"}, {"table", base + "_seg"}, {"rows", n}};
-  bool fresh = true;
-  for (const auto& l : peer_seg_layouts()) {
-    const std::string t = base + "_seg_" + l.suffix;
-    if (!ch.table_exists(t) || ch.count(t) != n) fresh = false;
-  }
-  if (fresh) {
+  if (reuse_or_recreate(ch, base + "_seg_", peer_seg_layouts(), kPeerSegColumns, n)) {
     rec["reused"] = true;
     return rec;
-  }
-  for (const auto& l : peer_seg_layouts()) {
-    const std::string t = base + "_seg_" + l.suffix;
-    ch.exec("DROP TABLE IF EXISTS " + t);
-    ch.exec(std::string("CREATE TABLE ") + t + " " + kPeerSegColumns + " " + l.engine);
   }
   const auto& p = set.points();
   const auto& mx = set.merc_x();
