@@ -1,0 +1,59 @@
+#pragma once
+// Stage 2 of the tracker: teat-tip candidates by normalised cross-correlation (NCC) of the depth image
+// with a bank of rounded-tip templates. Internal.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "tracker/detail/frame_prep.hpp"
+#include "trailscope/tracker/params.hpp"
+
+namespace trailscope::tracker::detail {
+
+/// One template: a hemispherical bump of radius `radius_px` (as "height" = -depth, so a tip pointing at
+/// the camera is a positive bump) on a flat surround. Large radii are matched on a downscaled image
+/// (`scale` 1, 2 or 4) so that every correlation uses a small kernel: NCC is scale-free, and a 12 px tip
+/// seen at 1/4 resolution is a 3 px tip.
+struct TipTemplate {
+  double radius_px = 0;  ///< at full resolution
+  int scale = 1;         ///< image downscale the template runs at
+  cv::Mat1f kernel;      ///< at its scale, odd square size
+};
+
+/// radii geometric from template_min_px to template_max_px, `templates` of them.
+std::vector<TipTemplate> make_template_bank(const TrackerParams& p);
+
+struct Match {
+  double u = 0, v = 0;  ///< full-resolution pixel
+  double score = 0;     ///< NCC
+  int template_index = 0;
+};
+
+/// Region of interest in full-resolution pixels, [u0, u1) x [v0, v1), and the templates to try there.
+struct SearchWindow {
+  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+  std::vector<int> templates;
+};
+
+/// Correlates every window with its templates; returns local NCC maxima >= ncc_min, strongest first,
+/// merged across templates and windows (a weaker peak within 0.8 template radii of a stronger one is the
+/// same tip), at most max_candidates.
+class NccDetector {
+ public:
+  explicit NccDetector(const TrackerParams& p);
+  const std::vector<TipTemplate>& bank() const { return bank_; }
+  /// Builds the "height" images (filled holes, one per scale) for a new frame.
+  void set_frame(const PreparedFrame& f);
+  std::vector<Match> detect(const std::vector<SearchWindow>& windows) const;
+  /// NCC of template `ti` centred at full-resolution pixel (u, v) (the kernel clipped to the image).
+  double score_at(double u, double v, int ti) const;
+  /// Template whose radius is nearest (in ratio) to `radius_px`, and its neighbour on the other side.
+  std::vector<int> templates_near(double radius_px) const;
+
+ private:
+  TrackerParams p_;
+  std::vector<TipTemplate> bank_;
+  cv::Mat1f height_[3];  ///< scales 1, 2, 4
+};
+
+}  // namespace trailscope::tracker::detail
