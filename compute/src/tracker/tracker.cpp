@@ -52,6 +52,8 @@ constexpr double kSameTipPx = 2.0;
 constexpr double kModelRate = 0.05;
 // How fast the learnt offsets between teats follow what is seen (per frame that sees both).
 constexpr double kOffsetRate = 0.1;
+// Largest error (mm) of every pair distance of a candidate taken for a lost teat by the model alone.
+constexpr double kRescueMm = 8.0;
 // How fast a teat's axis follows its fits.
 constexpr double kAxisRate = 0.2;
 // Position uncertainty of a teat placed by its offsets, mm.
@@ -274,6 +276,38 @@ struct Tracker::Impl {
     a = a.squaredNorm() > 0.5 ? V3((a + kAxisRate * (c.axis - a)).normalized()) : c.axis;
   }
 
+  // A teat whose prediction went wrong while it was hidden (its offsets are from another viewpoint)
+  // never meets its gate again. An unassigned verified candidate whose distances to the matched teats
+  // are the learnt model's is that teat: take it and restart its track there.
+  void rescue_by_model(const std::vector<detail::ModelCandidate>& mc, detail::Labelling& l) {
+    for (int t = 0; t < 4; ++t) {
+      if (l[t] >= 0) continue;
+      int best = -1;
+      double best_err = kRescueMm;
+      for (int j = 0; j < static_cast<int>(mc.size()); ++j) {
+        bool used = false;
+        for (int x : l) used |= x == j;
+        if (used || (model.radius[t] > 0 && std::fabs(mc[j].radius - model.radius[t]) > p.radius_tol_mm))
+          continue;
+        double worst = 0;
+        int pairs = 0;
+        for (int i = 0; i < 6; ++i) {
+          const auto [a, b] = kTeatPairs[i];
+          const int other = a == t ? b : b == t ? a : -1;
+          if (other < 0 || l[other] < 0 || !std::isfinite(model.dist[i])) continue;
+          worst = std::max(worst, std::fabs((mc[j].tip - mc[l[other]].tip).norm() - model.dist[i]));
+          ++pairs;
+        }
+        if (pairs >= 2 && worst < best_err) best_err = worst, best = j;
+      }
+      if (best < 0) continue;
+      l[t] = best;
+      teats[t].tracked = true;
+      teats[t].kf.init(mc[best].tip, V3::Zero(), p.kalman_r_mm, 200.0);
+      teats[t].axis = mc[best].axis;
+    }
+  }
+
   // Learns where each teat sits relative to each other (camera frame), from frames that see both.
   void learn_offsets(const std::vector<detail::ModelCandidate>& mc, const detail::Labelling& l) {
     for (int a = 0; a < 4; ++a)
@@ -402,6 +436,8 @@ struct Tracker::Impl {
       }
       t0 = Clock::now();
       if (tracked_ok) {
+        rescue_by_model(mc, label);
+        log.model = detail::model_metrics(mc, label, model, p);
         bad = 0;
         for (int t = 0; t < 4; ++t) {
           if (label[t] < 0) continue;
@@ -425,7 +461,10 @@ struct Tracker::Impl {
     } else {
       detect_and_verify(whole_frame(), log, mc, mc_to_log);
       t0 = Clock::now();
-      const auto acq = detail::acquire(mc, model, p, std::max(3, p.min_teats));
+      // The first acquisition labels the teats by their layout alone, which three teats leave ambiguous
+      // (a triangle fits the quadrilateral four ways): it waits for all four. Later ones have the learnt
+      // model's distances to go by.
+      const auto acq = detail::acquire(mc, model, p, model.knows_shape() ? std::max(3, p.min_teats) : 4);
       if (acq) {
         label = *acq;
         log.model = detail::model_metrics(mc, label, model, p);
