@@ -49,7 +49,7 @@ void NccDetector::set_frame(const PreparedFrame& f) {
       z(v, u) = std::isnan(d) ? 0.f : d;
     }
   cv::Mat1f far;
-  cv::dilate(z, far, cv::Mat(), cv::Point(-1, -1), 3);
+  cv::dilate(z, far, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 7)));
   cv::Mat1f& h = height_[0];
   h.create(f.height, f.width);
   for (int v = 0; v < f.height; ++v)
@@ -70,7 +70,7 @@ std::vector<int> NccDetector::templates_near(double radius_px) const {
     by.push_back({std::fabs(std::log(bank_[i].radius_px / std::max(radius_px, 0.5))), i});
   std::sort(by.begin(), by.end());
   std::vector<int> out;
-  for (std::size_t i = 0; i < by.size() && i < 2; ++i) out.push_back(by[i].second);
+  if (!by.empty()) out.push_back(by[0].second);
   return out;
 }
 

@@ -47,7 +47,7 @@ class NccDetector {
   std::vector<Match> detect(const std::vector<SearchWindow>& windows) const;
   /// NCC of template `ti` centred at full-resolution pixel (u, v) (the kernel clipped to the image).
   double score_at(double u, double v, int ti) const;
-  /// Template whose radius is nearest (in ratio) to `radius_px`, and its neighbour on the other side.
+  /// The template whose radius is nearest (in ratio) to `radius_px` (a tracked teat's expected size).
   std::vector<int> templates_near(double radius_px) const;
 
  private:

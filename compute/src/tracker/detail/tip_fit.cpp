@@ -16,7 +16,7 @@ constexpr double kPriorRadius = 0.7;  // mm: how strongly a tracked radius holds
 constexpr double kPriorAxis = 0.3;    // rad
 constexpr int kMinPoints = 8;
 constexpr int kMaxWindowHalf = 48;  // px
-constexpr double kMaxFitPoints = 160;
+constexpr double kMaxFitPoints = 110;
 
 struct Model {
   V3 c, a;
@@ -208,16 +208,16 @@ TipFit fit_tip(const PreparedFrame& f, const tof::Intrinsics& k, double u, doubl
   best.cost = INFINITY;
   for (const auto& a0 : axes) {
     Model m{p0 + r0 * a0, a0, r0};
-    Solve s = refine(m, pts, prior, 12);
+    Solve s = refine(m, pts, prior, 10);
     if (s.cost < best.cost) best = s;
   }
   if (!std::isfinite(best.cost)) return out;
   // Re-centre the fit on the tip it found (the seed may sit on the teat's side) and refine once more.
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < 1; ++pass) {
     const V3 apex = best.m.c - best.m.r * best.m.a;
     gather(f, k, apex, p.fit_reach_mm, pts);
     if (static_cast<int>(pts.size()) < kMinPoints) return out;
-    best = refine(best.m, pts, prior, 8);
+    best = refine(best.m, pts, prior, 6);
   }
   Model m = best.m;
   if (m.a.dot(m.c.normalized()) < 0) {
