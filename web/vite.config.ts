@@ -15,6 +15,8 @@ export default defineConfig({
   server: {
     proxy: {
       '/api/v1/ws': { target: backend, ws: true, changeOrigin: true },
+      // Replay viewers: /api/v1/replays/{id}/ws (and the replay routes themselves).
+      '/api/v1/replays': { target: backend, ws: true, changeOrigin: true },
       '/api': { target: backend, changeOrigin: true },
       '/tiles': { target: backend, changeOrigin: true },
     },

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   trailscope::cli::add_synth(app);
   trailscope::cli::add_video(app);
   trailscope::cli::add_dmd(app);
+  trailscope::cli::add_project(app);
   trailscope::cli::add_track(app);
   try {
     app.parse(argc, argv);

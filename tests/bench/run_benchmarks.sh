@@ -11,6 +11,7 @@
 #   BENCH_OUT=tests/bench/out  where inputs, logs and raw results go
 #   BENCH_CSV_FLIGHTS=6500     demo flights written as the OpenSky CSV ingest input (≥ 5 M rows)
 #   BENCH_FLIGHTS=14000        demo flights for the summary/tile data set (≥ 10 M points)
+#   BENCH_TRACKER_FRAMES=1000  frames of each synthetic ToF scenario in the tracker benchmark
 #   BENCH_PORT=18480           TrailScope server port;  BENCH_CH_PORT=18123 ClickHouse HTTP port (+1, +2 used)
 #   BENCH_QUICK=1              fewer repetitions and smaller data (a smoke run; not for BENCHMARKS.md)
 #   BENCH_KEEP=1               keep the generated CSVs and the ClickHouse data folder afterwards
@@ -40,6 +41,10 @@ if [ "${BENCH_QUICK:-0}" = 1 ]; then
   SUM_REPS=5 CH_REPS=2 TILE_REPS=3 INGEST_REPS=1 SO6_REPS=2 WRK_SECONDS=2
   BUNDLE_REPS=3 BUNDLE_REF_REPS=1 BUNDLE_BIG_REPS=1 BUNDLE_1M=0
   CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-600} FLIGHTS=${BENCH_FLIGHTS:-1500}
+fi
+TRACKER_FRAMES=${BENCH_TRACKER_FRAMES:-1000} TRACKER_REPS=3 TRACKER_PEER_REPS=3
+if [ "${BENCH_QUICK:-0}" = 1 ]; then
+  TRACKER_FRAMES=${BENCH_TRACKER_FRAMES:-200} TRACKER_REPS=1 TRACKER_PEER_REPS=1
 fi
 
 mkdir -p "$OUT"
@@ -136,7 +141,7 @@ if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
 fi
 grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$BUILD_DIR/CMakeCache.txt" ||
   echo "WARNING: $BUILD_DIR is not a Release build; the numbers will not mean much" | tee -a "$LOG" >&2
-cmake --build "$BUILD_DIR" -j "$(nproc)" --target trailscope ingest_bench summary_bench tile_bench http_bench bundle_bench bench_report \
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target trailscope ingest_bench summary_bench tile_bench http_bench bundle_bench projection_bench tracker_bench bench_report \
   2>&1 | tail -n 5 | tee -a "$LOG" >&2
 BIN=$ROOT/$BUILD_DIR/server/trailscope
 B=$ROOT/$BUILD_DIR/tests/bench
@@ -224,6 +229,27 @@ run "$B/bundle_bench" --random-edges 100000 --label generated_100k --reps "$BUND
 if [ "$BUNDLE_1M" = 1 ]; then
   run "$B/bundle_bench" --random-edges 1000000 --label generated_1m --reps 1 --ref-reps 1
 fi
+
+# ---------------------------------------------------------------------------------------------------
+say "5b. projections (PCA, MDS, t-SNE, LAMP at 1k-100k x 50) and the npm peers on the same data"
+PROJ_DIR=$OUT/projection
+PROJ_SIZES=${PROJ_SIZES:-1000,5000,20000,100000}
+PROJ_PEER_SIZES=${PROJ_PEER_SIZES:-1000,5000}
+run "$B/projection_bench" --data-dir "$PROJ_DIR" --sizes "$PROJ_SIZES" --budget-s 60
+if [ ! -d tests/bench/peers/node_modules ]; then
+  (cd tests/bench/peers && npm ci --no-audit --no-fund) 2>&1 | tail -n 3 | tee -a "$LOG" >&2
+fi
+record node tests/bench/projection_peers.mjs --data-dir "$PROJ_DIR" --sizes "$PROJ_PEER_SIZES" --budget-s 300
+sed -i '$ s|$|> tests/bench/out/projection/peers.jsonl|' "$CMDS"
+node tests/bench/projection_peers.mjs --data-dir "$PROJ_DIR" --sizes "$PROJ_PEER_SIZES" --budget-s 300 \
+  >"$PROJ_DIR/peers.jsonl" 2> >(tee -a "$LOG" >&2)
+run "$B/projection_bench" --data-dir "$PROJ_DIR" --score-peers "$PROJ_DIR/peers.jsonl"
+
+# ---------------------------------------------------------------------------------------------------
+# MIL (--peers csrt,kcf,mil) is left out: about 0.2 s per frame, it would add over half an hour.
+say "5c. teat tracker on the synthetic ToF scenarios, and OpenCV's CSRT and KCF trackers (peers) on the same frames"
+run "$B/tracker_bench" --scenarios standard,noisy,occluded,cups-attached,fast-motion --frames "$TRACKER_FRAMES" \
+  --seed 1 --reps "$TRACKER_REPS" --peers csrt,kcf --peer-reps "$TRACKER_PEER_REPS"
 
 # ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)

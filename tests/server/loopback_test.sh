@@ -84,9 +84,33 @@ check "cli bundle: TSBL magic" TSBL "$(head -c 4 "$TMP/air.bin")"
 check "cli bad parameter exits 2" 2 "$?"
 check "cli names the parameter" "trailscope: h must be in [2, 128] px (got 1)" "$(cat "$TMP/err.txt")"
 
+# Depth videos and the live replay: a pack upload, a replay over it, one viewer seeking over the WebSocket.
+"$BIN" synth --scenario standard --frames 30 --pack -o "$TMP/clip.tsdv" > /dev/null 2>&1
+video=$(curl -s --data-binary @"$TMP/clip.tsdv" "$URL/api/v1/videos?name=clip")
+check "video upload: frames" 30 "$(echo "$video" | json 'd["frame_count"]')"
+vid=$(echo "$video" | json 'd["id"]')
+check "garbage video upload" 415 "$(curl -s -o /dev/null -w '%{http_code}' --data-binary 'junk' "$URL/api/v1/videos")"
+check "oversized video upload detail" "video upload exceeds the limit of 2 GiB" "$(curl -s -H 'Content-Length: 3000000000' --data-binary 'x' "$URL/api/v1/videos" | json 'd["detail"]')"
+check "depth picture" 200 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/videos/$vid/frames/3/depth.png")"
+rid=$(curl -s -H 'Content-Type: application/json' -d '{"video":"'"$vid"'"}' "$URL/api/v1/replays" | json 'd["id"]')
+rws=$(node --experimental-websocket "$(dirname "$0")/replay_ws.mjs" "$URL" "$rid" 2>/dev/null)
+check "replay ws: hello first" hello "$(echo "$rws" | json 'd.get("first")')"
+check "replay ws: frame magic" TSRF "$(echo "$rws" | json 'd.get("magic")')"
+check "replay ws: depth is a PNG" PNG "$(echo "$rws" | json 'd.get("png")')"
+check "replay ws: seek" 5 "$(echo "$rws" | json 'd.get("seeked")')"
+check "replay ws: bad op names op" op "$(echo "$rws" | json 'd.get("error_param")')"
+for _ in $(seq 1 100); do
+  run=$(curl -s "$URL/api/v1/replays/$rid" | json 'd["run"] or ""')
+  [ -n "$run" ] && break
+  sleep 0.1
+done
+check "replay run stored" 30 "$(curl -s "$URL/api/v1/runs/$run" | json 'd["summary"]["frames"]')"
+
 # Restart: the dataset is back.
 stop
 start
+check "video survives restart" 30 "$(curl -s "$URL/api/v1/videos/$vid" | json 'd["frame_count"]')"
+check "run survives restart" 30 "$(curl -s "$URL/api/v1/runs/$run" | json 'd["summary"]["frames"]')"
 check "dataset survives restart" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
 check "bundle survives restart" 2101 "$(curl -s "$URL/api/v1/bundles/$bundle" | json 'd["polylines"]')"
 check "graph survives restart" 2101 "$(curl -s "$URL/api/v1/graphs/$gid" | json 'd["edges"]')"

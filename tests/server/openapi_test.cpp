@@ -39,7 +39,8 @@ TEST(OpenApi, ListsEveryRouteOfTheRouter) {
   auto store = std::make_shared<EmbeddedStore>(tmp.path());
   App app(store, store->upload_dir(), {}, 1 << 20);
   const Router router = make_router(app);
-  std::set<std::string> routed = {"GET /api/v1/ws"};  // the WebSocket upgrade is taken before routing
+  // The WebSocket upgrades are taken before routing.
+  std::set<std::string> routed = {"GET /api/v1/ws", "GET /api/v1/replays/{replay}/ws"};
   for (const auto& r : router.routes()) routed.insert(r.method + " " + r.pattern);
   EXPECT_EQ(documented, routed);
 }
@@ -88,6 +89,26 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxVideoUploadBytes", double(L::kMaxVideoUploadBytes)},
       {"kMaxVideoManifestBytes", double(L::kMaxVideoManifestBytes)},
       {"kMaxVideoLoadBytes", double(L::kMaxVideoLoadBytes)},
+      {"kMaxStoredVideos", double(L::kMaxStoredVideos)},
+      {"kMaxStoredRuns", double(L::kMaxStoredRuns)},
+      {"kMaxRunFramesPerPage", double(L::kMaxRunFramesPerPage)},
+      {"kDefaultRunFramesPerPage", double(L::kDefaultRunFramesPerPage)},
+      {"kMaxReplays", double(L::kMaxReplays)},
+      {"kMaxReplayViewers", double(L::kMaxReplayViewers)},
+      {"kMaxImportanceSamples", double(L::kMaxImportanceSamples)},
+      {"kMaxSweepRuns", double(L::kMaxSweepRuns)},
+      {"kMaxProjectionRows", double(L::kMaxProjectionRows)},
+      {"kMaxProjectionColumns", double(L::kMaxProjectionColumns)},
+      {"kMaxProjectionTableBytes", double(L::kMaxProjectionTableBytes)},
+      {"kMaxExactMdsRows", double(L::kMaxExactMdsRows)},
+      {"kMdsLandmarks", double(L::kMdsLandmarks)},
+      {"kMaxForceSchemeRows", double(L::kMaxForceSchemeRows)},
+      {"kMaxExactTsneRows", double(L::kMaxExactTsneRows)},
+      {"kMaxTsneRows", double(L::kMaxTsneRows)},
+      {"kMaxPerplexity", double(L::kMaxPerplexity)},
+      {"kMaxProjectionIterations", double(L::kMaxProjectionIterations)},
+      {"kMaxQualitySample", double(L::kMaxQualitySample)},
+      {"kMaxQualityK", double(L::kMaxQualityK)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

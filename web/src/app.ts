@@ -16,6 +16,7 @@ import { BundleOverlay } from './render/bundleOverlay';
 import { MapView } from './views/map';
 import { SummaryView } from './views/summary';
 import { TimeBrush } from './views/timeBrush';
+import { isTrackerHash } from './tracker/route';
 
 const SUMMARY_BINS = 96;
 const PAGE_SIZE = 50;
@@ -366,7 +367,15 @@ export class App {
       });
   }
 
+  /** The map view is shown again (after the tracker view): restore its URL and size. */
+  show(): void {
+    this.map.map.resize();
+    this.syncHash();
+  }
+
   private syncHash() {
+    // The tracker view owns the URL while it is shown (#tracker…).
+    if (isTrackerHash(window.location.hash)) return;
     const s = this.store.get();
     if (!s.datasetId) return;
     const q = buildQuery({ ...s.filters, bbox: null });

@@ -97,6 +97,7 @@ void warm_up_ops() {
       throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of density_lines failed: " + why);
   }
   bundle_warm_up();  // compute/src/ocl/bundle_ocl.cpp
+  projection_warm_up();  // compute/src/ocl/projection_ocl.cpp
 }
 
 }  // namespace trailscope::ocl

@@ -18,6 +18,7 @@ void add_metrics(CLI::App& app);
 void add_synth(CLI::App& app);
 void add_video(CLI::App& app);
 void add_dmd(CLI::App& app);
+void add_project(CLI::App& app);
 void add_track(CLI::App& app);
 
 /// The airspace-window filters shared by `query` and `tile` (--bbox --t0 --t1 --alt-min --alt-max

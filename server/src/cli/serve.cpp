@@ -63,10 +63,14 @@ void add_serve(CLI::App& app) {
     });
     const Router router = make_router(app);
     ServerOptions so{o->host, o->port, o->threads};
-    run_http_server(so, router, hub, store->upload_dir(), [&](unsigned short port) {
-      std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size()
-                << " dataset(s) at http://" << o->host << ":" << port << "/" << std::endl;
-    });
+    if (o->demo) create_demo_videos(*app.videos);
+    run_http_server(
+        so, router, hub, store->upload_dir(),
+        [&](unsigned short port) {
+          std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size()
+                    << " dataset(s) at http://" << o->host << ":" << port << "/" << std::endl;
+        },
+        app.replays.get());
     std::cout << "stopped" << std::endl;
   });
 }

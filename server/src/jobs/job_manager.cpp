@@ -120,6 +120,7 @@ void JobManager::worker_loop() {
       job->state.state = job->cancel.cancelled() ? "cancelled" : "running";
     }
     if (job->state.state == "cancelled") {
+      job->work = nullptr;  // never runs: release what it captured (upload files, reservations) now
       {
         std::lock_guard lock(mu_);
         finished_.push_back(job->state.id);

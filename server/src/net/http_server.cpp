@@ -21,6 +21,7 @@
 #include "errors/error_table.hpp"
 #include "net/websocket_session.hpp"
 #include "net/ws_hub.hpp"
+#include "replay/replay_viewer.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 
@@ -34,7 +35,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // The routes whose body is streamed to a file rather than held in memory, with their size limits and
-// the noun their errors use: dataset uploads (kMaxUploadBytes) and graph uploads (kMaxGraphUploadBytes).
+// the noun their errors use: dataset uploads (kMaxUploadBytes), graph uploads (kMaxGraphUploadBytes),
+// depth-video packs (kMaxVideoUploadBytes), tracker logs and MOTChallenge files (kMaxRunBytes).
 struct UploadRoute {
   std::uint64_t limit = 0;  ///< 0 = not an upload
   const char* what = "";
@@ -47,6 +49,9 @@ UploadRoute upload_route(const http::request_header<>& h) {
   };
   if (is("/api/v1/datasets")) return {limits::kMaxUploadBytes, "upload"};
   if (is("/api/v1/graphs")) return {limits::kMaxGraphUploadBytes, "graph upload"};
+  if (is("/api/v1/videos")) return {limits::kMaxVideoUploadBytes, "video upload"};
+  if (is("/api/v1/runs")) return {limits::kMaxRunBytes, "run upload"};
+  if (is("/api/v1/mot")) return {limits::kMaxRunBytes, "MOT file upload"};
   return {};
 }
 
@@ -118,8 +123,8 @@ fs::path upload_path(const fs::path& dir) {
   return dir / ("upload-" + std::to_string(rd()) + "-" + std::to_string(counter++));
 }
 
-net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsHub& hub,
-                             fs::path upload_dir) {
+net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsHub& hub, fs::path upload_dir,
+                             ReplayManager* replays) {
   beast::flat_buffer buffer;
   beast::error_code ec;
   for (;;) {
@@ -135,9 +140,35 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     const unsigned version = h.version();
 
     if (beast::websocket::is_upgrade(h)) {
-      if (h.target() != "/api/v1/ws") {
-        auto res = to_beast(error_response(404, "not_found", "path", "WebSocket endpoint is /api/v1/ws"),
-                            version, false);
+      // A replay's viewers: /api/v1/replays/{replay}/ws, answered 404 (or 409 when full) before upgrading.
+      const std::string_view target = h.target();
+      constexpr std::string_view kReplays = "/api/v1/replays/", kWs = "/ws";
+      if (replays && target.starts_with(kReplays) && target.ends_with(kWs) &&
+          target.size() > kReplays.size() + kWs.size()) {
+        const std::string id(target.substr(kReplays.size(), target.size() - kReplays.size() - kWs.size()));
+        const auto replay = replays->find(id);
+        Response refused;
+        if (!replay)
+          refused = error_response(404, "not_found", "replay", "replay '" + id + "' does not exist");
+        else if (!replay->has_room())
+          refused =
+              error_response(409, "conflict", "replay",
+                             "replay '" + id + "' has its limit of " +
+                                 std::to_string(limits::kMaxReplayViewers) + " viewers (kMaxReplayViewers)");
+        if (refused.status >= 400) {
+          auto res = to_beast(std::move(refused), version, false);
+          co_await http::async_write(stream, res, net::redirect_error(net::use_awaitable, ec));
+          break;
+        }
+        stream.expires_never();
+        std::make_shared<ReplayViewer>(std::move(stream), replay)->run(head.release());
+        co_return;
+      }
+      if (target != "/api/v1/ws") {
+        auto res =
+            to_beast(error_response(404, "not_found", "path",
+                                    "WebSocket endpoints are /api/v1/ws and /api/v1/replays/{replay}/ws"),
+                     version, false);
         co_await http::async_write(stream, res, net::redirect_error(net::use_awaitable, ec));
         break;
       }
@@ -197,7 +228,8 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
   stream.socket().shutdown(tcp::socket::shutdown_send, ec);
 }
 
-net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub& hub, fs::path upload_dir) {
+net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub& hub, fs::path upload_dir,
+                            ReplayManager* replays) {
   for (;;) {
     beast::error_code ec;
     auto socket = co_await acceptor.async_accept(net::make_strand(acceptor.get_executor()),
@@ -207,14 +239,15 @@ net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub
       continue;  // e.g. too many open files: keep serving the others
     }
     auto ex = socket.get_executor();
-    net::co_spawn(ex, session(beast::tcp_stream(std::move(socket)), router, hub, upload_dir), net::detached);
+    net::co_spawn(ex, session(beast::tcp_stream(std::move(socket)), router, hub, upload_dir, replays),
+                  net::detached);
   }
 }
 
 }  // namespace
 
 void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub, const fs::path& upload_dir,
-                     const std::function<void(unsigned short)>& on_listening) {
+                     const std::function<void(unsigned short)>& on_listening, ReplayManager* replays) {
   net::io_context ioc(static_cast<int>(opts.threads));
   tcp::acceptor acceptor(ioc);
   beast::error_code ec;
@@ -235,7 +268,7 @@ void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub
     acceptor.close();
     ioc.stop();
   });
-  net::co_spawn(ioc, listen(acceptor, router, hub, upload_dir), net::detached);
+  net::co_spawn(ioc, listen(acceptor, router, hub, upload_dir, replays), net::detached);
   std::vector<std::thread> threads;
   for (unsigned i = 1; i < std::max(1u, opts.threads); ++i) threads.emplace_back([&] { ioc.run(); });
   ioc.run();

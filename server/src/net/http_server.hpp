@@ -11,6 +11,7 @@
 namespace trailscope::server {
 
 class WsHub;
+class ReplayManager;
 
 struct ServerOptions {
   std::string host = "127.0.0.1";
@@ -19,10 +20,12 @@ struct ServerOptions {
 };
 
 /// Serves `router` until SIGINT/SIGTERM. `on_listening(port)` is called once the socket is bound.
-/// Streamed uploads (POST /api/v1/datasets) go to `upload_dir` instead of memory. Throws Error(internal)
-/// when the address cannot be bound.
+/// Streamed uploads (POST /api/v1/datasets, graphs, videos, runs) go to `upload_dir` instead of memory.
+/// WebSocket upgrades at /api/v1/replays/{replay}/ws become viewers of `replays` (none when null).
+/// Throws Error(internal) when the address cannot be bound.
 void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub,
                      const std::filesystem::path& upload_dir,
-                     const std::function<void(unsigned short)>& on_listening);
+                     const std::function<void(unsigned short)>& on_listening,
+                     ReplayManager* replays = nullptr);
 
 }  // namespace trailscope::server

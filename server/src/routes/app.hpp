@@ -10,6 +10,11 @@
 #include "store/bundle_store.hpp"
 #include "store/dataset_store.hpp"
 #include "store/graph_store.hpp"
+#include "store/mot_store.hpp"
+#include "store/sweep_store.hpp"
+#include "store/run_store.hpp"
+#include "store/video_store.hpp"
+#include "replay/replay.hpp"
 #include "store/tile_cache.hpp"
 #include "trailscope/density/renderer.hpp"
 
@@ -27,6 +32,14 @@ struct App {
   /// own references.
   std::shared_ptr<GraphStore> graphs;
   std::shared_ptr<BundleStore> bundles;
+  /// Depth videos and tracker runs in `data_root` (null without one: their routes then answer 500), and
+  /// the live replays over them. Replays are declared last so they stop first.
+  std::shared_ptr<VideoStore> videos;
+  std::shared_ptr<RunStore> runs;
+  /// MOTChallenge text files (POST /api/v1/mot) and parameter sweeps over the runs, in `data_root`.
+  std::shared_ptr<MotStore> mot;
+  std::shared_ptr<SweepStore> sweeps;
+  std::shared_ptr<ReplayManager> replays;
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});

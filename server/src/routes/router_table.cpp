@@ -10,6 +10,11 @@ App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::fi
   if (!data_root.empty()) {
     graphs = std::make_shared<GraphStore>(data_root);
     bundles = std::make_shared<BundleStore>(data_root);
+    videos = std::make_shared<VideoStore>(data_root);
+    runs = std::make_shared<RunStore>(data_root);
+    replays = std::make_shared<ReplayManager>(videos, runs);
+    mot = std::make_shared<MotStore>(data_root);
+    sweeps = std::make_shared<SweepStore>(data_root);
   }
 }
 
@@ -45,7 +50,42 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/bundles/{bundle}/image.png", bind(bundle_image));               // 200 304 400 404
   r.add("GET", "/api/v1/bundles/{bundle}/polylines", bind(bundle_polylines));           // 200 400 404 413
   r.add("GET", "/tiles/{dataset}/bundle/{bundle}/{z}/{x}/{y}.png", bind(bundle_tile));  // 200 304 400 404
-  // GET /api/v1/ws (WebSocket upgrade) is taken by the HTTP session before routing.
+  // Depth videos; /videos/synth before /videos/{video}.
+  r.add("GET", "/api/v1/videos", bind(list_videos));                     // 200
+  r.add("POST", "/api/v1/videos", bind(create_video));                   // 201 400 409 413 415 422
+  r.add("POST", "/api/v1/videos/synth", bind(synth_video));              // 202 400 409 413
+  r.add("GET", "/api/v1/videos/{video}", bind(get_video));               // 200 404
+  r.add("DELETE", "/api/v1/videos/{video}", bind(delete_video));         // 204 404
+  r.add("GET", "/api/v1/videos/{video}/frames/{i}", bind(video_frame));  // 200 400 404
+  r.add("GET", "/api/v1/videos/{video}/frames/{i}/depth.png", bind(video_depth_png));          // 200 400 404
+  r.add("GET", "/api/v1/videos/{video}/frames/{i}/amplitude.png", bind(video_amplitude_png));  // 200 400 404
+  // Tracker runs; /runs/track before /runs/{run}.
+  r.add("GET", "/api/v1/tracker/params", bind(tracker_params));  // 200
+  r.add("GET", "/api/v1/runs", bind(list_runs));                 // 200
+  r.add("POST", "/api/v1/runs", bind(create_run));               // 201 400 409 413 415
+  r.add("POST", "/api/v1/runs/track", bind(track_run));          // 202 400 404 409
+  r.add("GET", "/api/v1/runs/{run}", bind(get_run));             // 200 404
+  r.add("DELETE", "/api/v1/runs/{run}", bind(delete_run));       // 204 404
+  r.add("GET", "/api/v1/runs/{run}/log", bind(run_log));         // 200 400 404
+  r.add("GET", "/api/v1/runs/{run}/frames", bind(run_frames));   // 200 400 404
+  // MOTChallenge files and their metrics.
+  r.add("GET", "/api/v1/mot", bind(list_mot));              // 200
+  r.add("POST", "/api/v1/mot", bind(create_mot));           // 201 400 409 413 422
+  r.add("GET", "/api/v1/mot/{mot}", bind(get_mot));         // 200 404
+  r.add("DELETE", "/api/v1/mot/{mot}", bind(delete_mot));   // 204 404
+  r.add("POST", "/api/v1/metrics", bind(compute_metrics));  // 200 400 404 413 422
+  // Parameter sweeps.
+  r.add("GET", "/api/v1/sweeps", bind(list_sweeps));        // 200
+  r.add("POST", "/api/v1/sweeps", bind(create_sweep));      // 202 400 404 409 413 422
+  r.add("GET", "/api/v1/sweeps/{sweep}", bind(get_sweep));  // 200 404
+  r.add("GET", "/api/v1/importance", bind(importance));     // 200 400 404 413 422
+  // Live replays.
+  r.add("GET", "/api/v1/replays", bind(list_replays));               // 200
+  r.add("POST", "/api/v1/replays", bind(create_replay));             // 201 400 404 409
+  r.add("GET", "/api/v1/replays/{replay}", bind(get_replay));        // 200 404
+  r.add("DELETE", "/api/v1/replays/{replay}", bind(delete_replay));  // 204 404
+  // GET /api/v1/ws and GET /api/v1/replays/{replay}/ws (WebSocket upgrades) are taken by the HTTP session
+  // before routing.
   r.set_fallback(bind(static_file));
   return r;
 }

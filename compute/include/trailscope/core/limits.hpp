@@ -106,4 +106,54 @@ inline constexpr std::uint64_t kMaxVideoManifestBytes = 256ull << 20;
 /// longer videos are read frame by frame (DepthVideoReader).
 inline constexpr std::uint64_t kMaxVideoLoadBytes = 4ull << 30;  // 4 GiB
 
+// --- stored videos, tracker runs and live replays (server) -------------------------------------------
+/// Depth videos the server stores (uploads and synthetic); one more is refused (409) until one is deleted,
+/// since a user's upload must never disappear to make room.
+inline constexpr std::size_t kMaxStoredVideos = 100;
+/// Tracker runs the server stores (uploaded logs, track jobs, ended replays); one more is refused (409).
+/// Parameter sweeps make a few hundred to a few thousand; a 1000-frame log is about 1 MB.
+inline constexpr std::size_t kMaxStoredRuns = 10000;
+/// Frame records per page of GET /api/v1/runs/{run}/frames (default kDefaultRunFramesPerPage); a record
+/// with its candidates is a few KB of JSON.
+inline constexpr std::size_t kMaxRunFramesPerPage = 1000;
+inline constexpr std::size_t kDefaultRunFramesPerPage = 100;
+/// Live replays at once: each holds a thread while it tracks and its frame logs in memory.
+inline constexpr std::size_t kMaxReplays = 8;
+/// Viewers (WebSocket connections) of one replay at once.
+inline constexpr std::size_t kMaxReplayViewers = 32;
+
+// Projections
+/// Most rows (points) of a table to project: the t-SNE kNN and the quality metrics are brute force, so
+/// this bounds their O(N²) distance work (100k points take minutes, 200k four times that).
+inline constexpr std::size_t kMaxProjectionRows = 200'000;
+/// Most columns (dimensions) of a table to project; also bounds the D×D covariance of PCA.
+inline constexpr std::size_t kMaxProjectionColumns = 1000;
+/// Largest table file `trailscope project` reads (bytes).
+inline constexpr std::uint64_t kMaxProjectionTableBytes = 1ull << 30;  // 1 GiB
+/// Rows up to which MDS is exact (the N² matrix B, 4 bytes an entry: 36 MB at 3000); above it,
+/// landmark MDS on kMdsLandmarks landmarks.
+inline constexpr std::size_t kMaxExactMdsRows = 3000;
+inline constexpr std::size_t kMdsLandmarks = 500;
+/// Most rows of a Force Scheme projection (it keeps the N² distance matrix: 100 MB at 5000).
+inline constexpr std::size_t kMaxForceSchemeRows = 5000;
+/// Rows up to which t-SNE uses the exact O(N²) gradient; Barnes-Hut above.
+inline constexpr std::size_t kMaxExactTsneRows = 500;
+/// Most rows of a t-SNE (the kNN is brute force, O(N²·D)).
+inline constexpr std::size_t kMaxTsneRows = 100'000;
+/// Largest t-SNE perplexity; each point has ⌊3·perplexity⌋ neighbours (≤ 300, the kNN kernel keeps
+/// them in private memory).
+inline constexpr double kMaxPerplexity = 100.0;
+/// Most iterations of an iterative projection (t-SNE phases, Force Scheme).
+inline constexpr int kMaxProjectionIterations = 10'000;
+/// Rows up to which the quality metrics are exact; above, this many sampled query rows.
+inline constexpr std::size_t kMaxQualitySample = 2000;
+/// Largest neighbourhood size k of the quality metrics.
+inline constexpr int kMaxQualityK = 100;
+
+// Parameter studies
+/// Most runs (samples) a parameter-importance computation takes (the forest sorts them at every split).
+inline constexpr std::size_t kMaxImportanceSamples = 100'000;
+/// Most tracker runs one sweep may start (parameter points x videos).
+inline constexpr std::size_t kMaxSweepRuns = 5000;
+
 }  // namespace trailscope::limits

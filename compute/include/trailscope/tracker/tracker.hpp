@@ -82,8 +82,10 @@ struct StageTimes {
 struct FrameLog {
   std::size_t index = 0;
   double timestamp_s = 0;
-  int valid_pixels = 0;   ///< after all gates
-  int flying_pixels = 0;  ///< removed as flying pixels
+  /// Pixels that passed every gate, and those removed as flying pixels. In TRACK only the search
+  /// windows around the predictions are prepared, so these count within the windows.
+  int valid_pixels = 0;
+  int flying_pixels = 0;
   int matches = 0;        ///< NCC matches (local maxima >= ncc_min) before verification
   int verified = 0;       ///< candidates whose 3D fit passed
   std::vector<Candidate> candidates;

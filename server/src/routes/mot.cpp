@@ -1,0 +1,97 @@
+// MOTChallenge text files (ground truth, tracker results, 3D points) and TrackEval-exact metrics of one
+// stored result against one stored ground truth.
+#include "routes/handlers.hpp"
+#include "routes/tracker_body.hpp"
+#include "routes/upload_body.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/metrics/evaluate.hpp"
+
+namespace trailscope::server::handlers {
+
+namespace {
+const std::string kTooLarge =
+    "MOT file upload exceeds the limit of " + std::to_string(limits::kMaxRunBytes >> 20) + " MiB";
+
+MotStore& mot_store(App& app) {
+  if (!app.mot) throw Error(Error::Kind::internal, "", "this server was started without a MOT store");
+  return *app.mot;
+}
+
+/// The stored file named by body field `field`, which must be of one of `kinds` for the similarity.
+std::string mot_text(MotStore& store, const nlohmann::json& body, const std::string& field,
+                     const std::string& kind, const std::string& similarity) {
+  const std::string id = string_field(body, field);
+  const nlohmann::json row = store.meta(id, field);
+  if (row.at("kind") != kind)
+    throw invalid_argument(field, field + ": MOT file '" + id + "' is of kind " +
+                                      row.at("kind").get<std::string>() + ", similarity " + similarity +
+                                      " needs kind " + kind);
+  return store.text(id, field);
+}
+}  // namespace
+
+Response list_mot(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  return Response::json(200, {{"files", mot_store(app).list()}});
+}
+
+Response create_mot(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {"kind", "name"});
+  MotStore& store = mot_store(app);
+  const auto k = req.query.find("kind");
+  if (k == req.query.end()) throw invalid_argument("kind", "kind: required (gt, result or points)");
+  if (k->second != "gt" && k->second != "result" && k->second != "points")
+    throw invalid_argument("kind", "kind must be gt, result or points, got '" + k->second + "'");
+  const auto n = req.query.find("name");
+  const nlohmann::json row = store.put(n == req.query.end() ? "" : n->second, k->second,
+                                       upload_bytes(req, limits::kMaxRunBytes, kTooLarge));
+  Response res = Response::json(201, row);
+  res.headers.emplace_back("Location", "/api/v1/mot/" + row.at("id").get<std::string>());
+  return res;
+}
+
+Response get_mot(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  return Response::json(200, mot_store(app).meta(p.at("mot")));
+}
+
+Response delete_mot(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  mot_store(app).remove(p.at("mot"));
+  return Response::no_content();
+}
+
+Response compute_metrics(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  const nlohmann::json j =
+      parse_body_object(req.body, {"gt", "run", "similarity", "d_max", "frames", "per_frame"});
+  metrics::MetricsOptions options;
+  const std::string similarity = j.contains("similarity") ? string_field(j, "similarity") : "iou";
+  if (similarity == "iou")
+    options.kind = metrics::SimilarityKind::iou;
+  else if (similarity == "distance")
+    options.kind = metrics::SimilarityKind::distance;
+  else
+    throw invalid_argument("similarity", "similarity must be iou or distance, got '" + similarity + "'");
+  if (j.contains("d_max")) {
+    if (!j["d_max"].is_number()) throw invalid_argument("d_max", "d_max: must be a number");
+    options.d_max = j["d_max"].get<double>();
+  }
+  if (j.contains("frames")) {
+    if (!j["frames"].is_number_integer()) throw invalid_argument("frames", "frames: must be an integer");
+    options.frames = j["frames"].get<std::int64_t>();
+  }
+  bool per_frame = false;
+  if (j.contains("per_frame")) {
+    if (!j["per_frame"].is_boolean()) throw invalid_argument("per_frame", "per_frame: must be true or false");
+    per_frame = j["per_frame"].get<bool>();
+  }
+  MotStore& store = mot_store(app);
+  const bool iou = options.kind == metrics::SimilarityKind::iou;
+  const std::string gt = mot_text(store, j, "gt", iou ? "gt" : "points", similarity);
+  const std::string run = mot_text(store, j, "run", iou ? "result" : "points", similarity);
+  return Response::json(200, metrics::to_json(metrics::evaluate_text(gt, run, options), per_frame));
+}
+
+}  // namespace trailscope::server::handlers

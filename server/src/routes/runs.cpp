@@ -1,0 +1,138 @@
+#include "routes/handlers.hpp"
+#include "routes/params.hpp"
+#include "routes/tracker_body.hpp"
+#include "routes/upload_body.hpp"
+#include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/tof/depth_render.hpp"
+#include "trailscope/tracker/params.hpp"
+
+namespace trailscope::server::handlers {
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kTooLarge =
+    "run upload exceeds the limit of " + std::to_string(limits::kMaxRunBytes >> 20) + " MiB";
+
+RunStore& run_store(App& app) {
+  if (!app.runs) throw Error(Error::Kind::internal, "", "this server was started without a run store");
+  return *app.runs;
+}
+
+}  // namespace
+
+Response tracker_params(App&, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& i : tracker::parameter_infos())
+    list.push_back({{"name", i.name},
+                    {"unit", i.unit},
+                    {"default", i.default_value},
+                    {"min", i.min},
+                    {"max", i.max},
+                    {"integer", i.integer},
+                    {"help", i.help}});
+  return Response::json(
+      200, {{"params", std::move(list)}, {"tracker_version", std::string(tracker::kTrackerVersion)}});
+}
+
+Response list_runs(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  return Response::json(200, {{"runs", run_store(app).list()}});
+}
+
+Response get_run(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  RunStore& runs = run_store(app);
+  nlohmann::json j = runs.meta(p.at("run"));
+  j["header"] = tracker::header_to_json(runs.get(p.at("run"))->header);
+  return Response::json(200, j);
+}
+
+Response delete_run(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {});
+  run_store(app).remove(p.at("run"));
+  return Response::no_content();
+}
+
+Response create_run(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  RunStore& runs = run_store(app);
+  const std::string bytes = upload_bytes(req, limits::kMaxRunBytes, kTooLarge);
+  const nlohmann::json row = runs.put(tracker::decode_log(bytes), "upload");
+  Response res = Response::json(201, row);
+  res.headers.emplace_back("Location", "/api/v1/runs/" + row.at("id").get<std::string>());
+  return res;
+}
+
+Response track_run(App& app, const Request& req, const PathParams&) {
+  reject_unknown_params(req, {});
+  const nlohmann::json j = parse_body_object(req.body, {"video", "params"});
+  const std::string video = string_field(j, "video");
+  const tracker::TrackerParams params = parse_tracker_params(j.value("params", nlohmann::json()));
+  if (!app.videos) throw Error(Error::Kind::internal, "", "this server was started without a video store");
+  const fs::path pack = app.videos->pack_path(video);
+  run_store(app).check_room();
+  const auto runs = app.runs;
+  const JobState job = app.jobs.submit(
+      "track", video, [runs, pack, params, video](const ProgressFn& progress, const CancelToken& cancel) {
+        tracker::RunOptions ro;
+        ro.video_id = video;
+        const ProgressFn report = [&](double f, std::string_view stage) {
+          cancel.throw_if_cancelled();  // run_tracker stops at the throw; nothing is stored
+          progress(f, stage);
+        };
+        return runs->put(tracker::run_tracker(pack, params, ro, report), "track");
+      });
+  Response res = Response::json(202, {{"job", job.to_json()}});
+  res.headers.emplace_back("Location", "/api/v1/jobs/" + job.id);
+  return res;
+}
+
+Response run_log(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {"format"});
+  const auto it = req.query.find("format");
+  const std::string format = it == req.query.end() ? "json" : it->second;
+  if (format != "json" && format != "binary")
+    throw invalid_argument("format", "format must be json or binary, got '" + format + "'");
+  RunStore& runs = run_store(app);
+  Response res;
+  if (format == "binary") {
+    res.content_type = "application/x-protobuf";
+    res.body = read_whole_file(runs.log_path(p.at("run")));
+  } else {
+    res.body = tracker::encode_log(*runs.get(p.at("run")), tracker::LogEncoding::json);
+  }
+  return res;
+}
+
+Response run_frames(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, {"from", "to"});
+  const std::string id = p.at("run");
+  const auto log = run_store(app).get(id);
+  const auto total = static_cast<std::int64_t>(log->frames.size());
+  const std::int64_t from = params::integer(req, "from", 0, 0, total);
+  const std::int64_t to = params::integer(
+      req, "to",
+      std::min<std::int64_t>(total, from + static_cast<std::int64_t>(limits::kDefaultRunFramesPerPage)), from,
+      total);
+  if (to - from > static_cast<std::int64_t>(limits::kMaxRunFramesPerPage))
+    throw invalid_argument("to", "to - from must be at most " + std::to_string(limits::kMaxRunFramesPerPage) +
+                                     " frames per page (kMaxRunFramesPerPage), got " +
+                                     std::to_string(to - from));
+  nlohmann::json frames = nlohmann::json::array(), truth = nlohmann::json::array();
+  for (std::int64_t i = from; i < to; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    frames.push_back(tracker::frame_to_json(log->frames[k]));
+    if (!log->truth.empty())
+      truth.push_back(log->truth[k] ? tof::truth_to_json(*log->truth[k]) : nlohmann::json(nullptr));
+  }
+  return Response::json(200, {{"run", id},
+                              {"from", from},
+                              {"to", to},
+                              {"total", total},
+                              {"frames", std::move(frames)},
+                              {"truth", log->truth.empty() ? nlohmann::json(nullptr) : std::move(truth)}});
+}
+
+}  // namespace trailscope::server::handlers

@@ -1,0 +1,39 @@
+#include "routes/tracker_body.hpp"
+
+#include <algorithm>
+
+#include "trailscope/core/error.hpp"
+
+namespace trailscope::server {
+
+nlohmann::json parse_body_object(const std::string& body, const std::vector<std::string>& allowed) {
+  nlohmann::json j = nlohmann::json::parse(body, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw invalid_argument("body", "body: must be a JSON object");
+  for (const auto& [k, v] : j.items())
+    if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
+      throw invalid_argument(k, "unknown field '" + k + "'");
+  return j;
+}
+
+tracker::TrackerParams parse_tracker_params(const nlohmann::json& params) {
+  tracker::TrackerParams p;
+  if (params.is_null()) return p;
+  if (!params.is_object())
+    throw invalid_argument("params", "params: must be an object of parameter names and numbers");
+  for (const auto& [name, value] : params.items()) {
+    if (!value.is_number()) throw invalid_argument(name, name + ": must be a number");
+    tracker::set_param(p, name, value.get<double>());
+  }
+  tracker::validate(p);
+  return p;
+}
+
+std::string string_field(const nlohmann::json& j, const std::string& name) {
+  auto it = j.find(name);
+  if (it == j.end()) throw invalid_argument(name, name + ": required");
+  if (!it->is_string() || it->get<std::string>().empty())
+    throw invalid_argument(name, name + ": must be a non-empty string");
+  return it->get<std::string>();
+}
+
+}  // namespace trailscope::server

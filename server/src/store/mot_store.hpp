@@ -1,0 +1,45 @@
+#pragma once
+// MOTChallenge text files (ground truth, tracker results, 3D points; metrics/mot_text.hpp), the inputs of
+// POST /api/v1/metrics, persisted as <root>/mot/<id>.txt and <root>/mot/<id>.json, the file's row written
+// last (temporary file + rename, as the text before it): a text without its row is an interrupted write
+// and is removed at the next start. Rows stay in memory; texts are read on use. At most
+// limits::kMaxStoredRuns files are kept; one more is refused (409).
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace trailscope::server {
+
+class MotStore {
+ public:
+  /// Opens (creating if needed) <root>/mot. A row that fails to load is reported on stderr and skipped.
+  explicit MotStore(std::filesystem::path root);
+
+  /// Every file's row, oldest first.
+  std::vector<nlohmann::json> list() const;
+  /// {id ("m1", ...), name, kind ("gt" | "result" | "points"), created, bytes, rows, frames (last frame
+  /// number), ids (distinct object ids)}. Throws not_found(param).
+  nlohmann::json meta(const std::string& id, const std::string& param = "mot") const;
+  /// The whole text. Throws not_found(param).
+  std::string text(const std::string& id, const std::string& param = "mot") const;
+  /// Checks `text` with the reader of `kind` (every malformed line, Error(unprocessable, "body")) and
+  /// stores it under the next id. Throws invalid_argument("kind") for another kind, Error(conflict, "mot")
+  /// at limits::kMaxStoredRuns. Returns the row.
+  nlohmann::json put(const std::string& name, const std::string& kind, const std::string& text);
+  /// Throws not_found("mot").
+  void remove(const std::string& id);
+
+ private:
+  std::filesystem::path root_;
+  mutable std::mutex mu_;
+  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
+  std::map<std::string, nlohmann::json> meta_;
+  std::uint64_t next_ = 1;
+};
+
+}  // namespace trailscope::server

@@ -1,0 +1,120 @@
+#include "store/sweep_store.hpp"
+
+#include <fstream>
+#include <iostream>
+
+#include "store/column_io.hpp"
+#include "store/dataset_ingest.hpp"
+#include "store/graph_store.hpp"
+#include "trailscope/core/error.hpp"
+
+namespace trailscope::server {
+namespace fs = std::filesystem;
+using namespace column_io;
+
+SweepStore::SweepStore(fs::path root) : root_(std::move(root)) {
+  std::error_code ec;
+  fs::create_directories(root_ / "sweeps", ec);
+  if (ec) throw io_error(root_ / "sweeps", "create");
+  std::vector<fs::path> orphans;
+  for (const auto& e : fs::directory_iterator(root_ / "sweeps")) {
+    const fs::path p = e.path();
+    if (p.filename().string().find(".tmp.") != std::string::npos) {
+      orphans.push_back(p);
+      continue;
+    }
+    const std::uint64_t n = store_id_number(p.stem().string(), 's');
+    if (p.extension() != ".json" || n == 0) continue;
+    try {
+      std::ifstream in(p);
+      nlohmann::json m = nlohmann::json::parse(in);
+      if (m.value("state", "") == "running") {
+        m["state"] = "interrupted";
+        save_locked(m);
+      }
+      sweeps_[n] = std::move(m);
+      next_ = std::max(next_, n + 1);
+    } catch (const std::exception& ex) {
+      std::cerr << "store: skipping sweep '" << p.stem().string() << "': " << ex.what() << "\n";
+    }
+  }
+  for (const auto& p : orphans) fs::remove(p, ec);
+}
+
+void SweepStore::save_locked(const nlohmann::json& record) const {
+  const fs::path dir = root_ / "sweeps", dest = dir / (record.at("id").get<std::string>() + ".json");
+  const fs::path tmp = dir / (dest.filename().string() + ".tmp." + random_suffix());
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << json_text(record);
+    out.close();
+    if (!out) throw io_error(tmp, "write");
+  }
+  fsync_path(tmp);
+  std::error_code ec;
+  fs::rename(tmp, dest, ec);
+  if (ec) throw io_error(dest, "rename into");
+}
+
+std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, std::size_t total) {
+  std::lock_guard lock(mu_);
+  const std::uint64_t n = next_++;
+  const std::string id = store_id('s', n);
+  nlohmann::json record = {{"id", id},
+                           {"spec", std::move(spec)},
+                           {"videos", std::move(videos)},
+                           {"total", total},
+                           {"runs", nlohmann::json::array()},
+                           {"state", "running"},
+                           {"done", false},
+                           {"job", nullptr},
+                           {"created", utc_now_iso()}};
+  save_locked(record);
+  sweeps_[n] = std::move(record);
+  return id;
+}
+
+namespace {
+template <typename Map>
+auto& find(Map& sweeps, const std::string& id) {
+  auto it = sweeps.find(store_id_number(id, 's'));
+  if (it == sweeps.end()) throw not_found("sweep", "sweep '" + id + "' does not exist");
+  return it->second;
+}
+}  // namespace
+
+void SweepStore::set_job(const std::string& id, const std::string& job) {
+  std::lock_guard lock(mu_);
+  nlohmann::json& r = find(sweeps_, id);
+  r["job"] = job;
+  save_locked(r);
+}
+
+void SweepStore::add_run(const std::string& id, const std::string& run) {
+  std::lock_guard lock(mu_);
+  nlohmann::json& r = find(sweeps_, id);
+  r["runs"].push_back(run);
+  save_locked(r);
+}
+
+void SweepStore::finish(const std::string& id, const std::string& state) {
+  std::lock_guard lock(mu_);
+  nlohmann::json& r = find(sweeps_, id);
+  r["state"] = state;
+  r["done"] = state == "done";
+  save_locked(r);
+}
+
+nlohmann::json SweepStore::get(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  return find(sweeps_, id);
+}
+
+std::vector<nlohmann::json> SweepStore::list() const {
+  std::lock_guard lock(mu_);
+  std::vector<nlohmann::json> out;
+  for (const auto& [n, r] : sweeps_) out.push_back(r);
+  return out;
+}
+
+}  // namespace trailscope::server

@@ -1,0 +1,45 @@
+#pragma once
+// Parameter sweeps (POST /api/v1/sweeps): each sweep's record, persisted as <root>/sweeps/<id>.json and
+// rewritten whole (temporary file + rename) when a run is added and when the sweep ends. The runs
+// themselves live in the run store, tagged with the sweep's id.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace trailscope::server {
+
+class SweepStore {
+ public:
+  /// Opens (creating if needed) <root>/sweeps. A record that fails to load is reported on stderr and
+  /// skipped; one that was running when the server stopped is marked "interrupted".
+  explicit SweepStore(std::filesystem::path root);
+
+  /// A new sweep: {id ("s1", ...), spec, videos, total (runs to make), runs: [], state: "running", done:
+  /// false, job, created}. Returns its id.
+  std::string create(nlohmann::json spec, nlohmann::json videos, std::size_t total);
+  /// Sets the job that makes the sweep's runs.
+  void set_job(const std::string& id, const std::string& job);
+  /// Appends a stored run's id.
+  void add_run(const std::string& id, const std::string& run);
+  /// Ends the sweep: state "done" (done: true), "cancelled" or "failed".
+  void finish(const std::string& id, const std::string& state);
+  /// Throws not_found("sweep").
+  nlohmann::json get(const std::string& id) const;
+  /// Every sweep, oldest first.
+  std::vector<nlohmann::json> list() const;
+
+ private:
+  void save_locked(const nlohmann::json& record) const;
+
+  std::filesystem::path root_;
+  mutable std::mutex mu_;
+  std::map<std::uint64_t, nlohmann::json> sweeps_;  ///< number → record
+  std::uint64_t next_ = 1;
+};
+
+}  // namespace trailscope::server

@@ -1,0 +1,308 @@
+// Browser test of the tracker dashboard (run through run.sh, which starts the server with --demo so that
+// the two synthetic demo videos exist). Two viewers watch one replay of the cups-attached video: one
+// plays, the other seeks by clicking the state timeline; both show pictures with overlays, and the
+// timeline of the whole video holds tracking (blue) and lost (red) frames.
+
+import { chromium } from 'playwright-core';
+import { mkdir } from 'node:fs/promises';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const BASE_URL = process.env.BASE_URL ?? 'http://127.0.0.1:8080';
+const VIDEO = process.env.TRACKER_VIDEO ?? 'cups-attached';
+const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+const HERE = path.dirname(fileURLToPath(import.meta.url));
+const ARTIFACTS = path.join(HERE, 'artifacts');
+const TIMEOUT = 30_000;
+
+// ---------- a tiny sequential harness (as dashboard.test.mjs) ----------
+const results = [];
+let stop = false;
+async function test(name, fn, { critical = false } = {}) {
+  if (stop) {
+    results.push({ name, ok: false });
+    console.log(`  SKIP  ${name} (an earlier step it needs failed)`);
+    return;
+  }
+  const t0 = Date.now();
+  try {
+    await fn();
+    results.push({ name, ok: true });
+    console.log(`  ok    ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    results.push({ name, ok: false });
+    if (critical) stop = true;
+    console.log(`  FAIL  ${name} (${Date.now() - t0} ms)\n        ${String(e?.stack ?? e).split('\n').slice(0, 4).join('\n        ')}`);
+  }
+}
+function assert(cond, msg) {
+  if (!cond) throw new Error(msg);
+}
+function assertEqual(actual, expected, msg) {
+  if (actual !== expected) throw new Error(`${msg}: expected ${JSON.stringify(expected)}, got ${JSON.stringify(actual)}`);
+}
+
+const LOOPBACK = new Set(['127.0.0.1', 'localhost', '[::1]', '::1']);
+function leavesMachine(url) {
+  const u = new URL(url);
+  if (u.protocol === 'data:' || u.protocol === 'blob:' || u.protocol === 'about:') return false;
+  return !LOOPBACK.has(u.hostname);
+}
+
+const sel = (id) => `[data-testid="${id}"]`;
+/** x (from a plot's left edge) of the middle of frame i on a frame axis of `width` px (web/src/tracker/frameAxis.ts). */
+const frameX = (i, width) => ((i + 0.5) * width) / st.frames;
+const num = async (page, selector, attr) => Number(await page.getAttribute(selector, attr));
+
+/** Pixel statistics of a canvas: pixels differing from the background, distinct colours, a hash. */
+function canvasStats(page, testid) {
+  return page.evaluate((id) => {
+    const c = document.querySelector(`[data-testid="${id}"]`);
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let lit = 0;
+    let hash = 0;
+    const colours = new Set();
+    for (let i = 0; i < d.length; i += 4) {
+      const bg = d[i] === 5 && d[i + 1] === 7 && d[i + 2] === 10;
+      if (!bg && d[i + 3] > 0) lit++;
+      if (i % 16 === 0) colours.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+      hash = (hash * 31 + d[i] + 7 * d[i + 1] + 13 * d[i + 2]) >>> 0;
+    }
+    return { lit, pixels: d.length / 4, colours: colours.size, hash, w: c.width, h: c.height };
+  }, testid);
+}
+
+/** Share of the state timeline's columns painted in the TRACK blue and the LOST red. */
+function timelineColours(page) {
+  return page.evaluate(() => {
+    const c = document.querySelector('[data-testid="state-timeline"] canvas');
+    const d = c.getContext('2d').getImageData(0, Math.floor(c.height / 2), c.width, 1).data;
+    let blue = 0;
+    let red = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (d[i] === 0x3b && d[i + 1] === 0x82 && d[i + 2] === 0xf6) blue++;
+      if (d[i] === 0xef && d[i + 1] === 0x44 && d[i + 2] === 0x44) red++;
+    }
+    return { blue, red, width: c.width };
+  });
+}
+
+// ---------- run ----------
+await mkdir(ARTIFACTS, { recursive: true });
+const browser = await chromium.launch({
+  executablePath: CHROMIUM,
+  headless: true,
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+const context = await browser.newContext({ viewport: { width: 1440, height: 1000 }, deviceScaleFactor: 1 });
+const requests = [];
+const errors = [];
+context.on('request', (r) => requests.push(r.url()));
+async function newViewer(name) {
+  const page = await context.newPage();
+  page.setDefaultTimeout(TIMEOUT);
+  page.on('websocket', (ws) => requests.push(ws.url()));
+  page.on('console', (m) => {
+    if (m.type() === 'error') errors.push(`${name} console: ${m.text()}`);
+  });
+  page.on('pageerror', (e) => errors.push(`${name} pageerror: ${e.message}`));
+  return page;
+}
+const a = await newViewer('A');
+const b = await newViewer('B');
+const st = { replay: null, video: null, frames: 0 };
+
+console.log(`TrailScope tracker dashboard test against ${BASE_URL}`);
+
+await test(`viewer A opens the Tracker view and starts a replay of the ${VIDEO} video`, async () => {
+  const videos = (await (await fetch(`${BASE_URL}/api/v1/videos`)).json()).videos;
+  st.video = videos.find((v) => v.source?.scenario === VIDEO || v.name.includes(VIDEO));
+  assert(st.video, `a ${VIDEO} video is on the server (${videos.map((v) => v.name).join(', ')}); serve --demo adds it`);
+  await a.goto(`${BASE_URL}/`, { waitUntil: 'domcontentloaded' });
+  await a.click(sel('tab-tracker'));
+  await a.waitForFunction(() => document.getElementById('app')?.dataset.view === 'tracker');
+  await a.waitForSelector(`${sel('tracker-video')} option[value="${st.video.id}"]`, { state: 'attached' });
+  await a.waitForSelector(`${sel('tracker-params')} input[data-param]`, { state: 'attached' });
+  await a.selectOption(sel('tracker-video'), st.video.id);
+  await a.click(sel('replay-start'));
+  await a.waitForFunction(() => document.querySelector('[data-testid="tracker"]')?.dataset.state === 'ready');
+  st.replay = await a.getAttribute(sel('tracker'), 'data-replay');
+  assert(st.replay, 'the view names its replay');
+  assert(new URL(a.url()).hash === `#tracker?replay=${encodeURIComponent(st.replay)}`, `the URL names the replay: ${a.url()}`);
+  await a.waitForFunction(() => document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true');
+  st.frames = Number(await a.getAttribute(sel('state-timeline'), 'data-frames'));
+  assertEqual(st.frames, st.video.frame_count, 'the timeline spans the video');
+}, { critical: true });
+
+await test('viewer B opens the same replay from its URL: two viewers', async () => {
+  await b.bringToFront();
+  await b.goto(`${BASE_URL}/#tracker?replay=${encodeURIComponent(st.replay)}`, { waitUntil: 'domcontentloaded' });
+  await b.waitForFunction(() => document.querySelector('[data-testid="tracker"]')?.dataset.state === 'ready');
+  assertEqual(await b.getAttribute(sel('tracker'), 'data-replay'), st.replay, 'B shows the replay of A');
+  await b.waitForFunction(() => document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true');
+  const r = await (await fetch(`${BASE_URL}/api/v1/replays/${encodeURIComponent(st.replay)}`)).json();
+  if (r.viewers !== undefined) assertEqual(r.viewers, 2, 'the server counts two viewers');
+}, { critical: true });
+
+await test('play in A: its frame counter advances (1×, then 4×), B keeps its own cursor', async () => {
+  const bBefore = await num(b, sel('replay-frame'), 'data-frame');
+  await a.bringToFront();
+  await a.click(sel('replay-play'));
+  await a.waitForFunction(() => document.querySelector('[data-testid="replay-controls"]')?.dataset.playing === 'true');
+  await a.waitForFunction(() => Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) >= 15, null, { timeout: 20_000 });
+  const f1 = await num(a, sel('replay-frame'), 'data-frame');
+  await a.waitForTimeout(600);
+  const f2 = await num(a, sel('replay-frame'), 'data-frame');
+  assert(f2 > f1, `the counter keeps advancing (${f1} → ${f2})`);
+  const shown = await num(a, sel('replay-images'), 'data-frame');
+  assert(shown > 0, `the pictures follow (frame ${shown} shown)`);
+  assertEqual(await num(b, sel('replay-frame'), 'data-frame'), bBefore, "B's cursor did not move with A's");
+  await a.selectOption(sel('replay-speed'), '4');
+  await a.waitForFunction(() => document.querySelector('[data-testid="replay-controls"]')?.dataset.speed === '4');
+  const f3 = await num(a, sel('replay-frame'), 'data-frame');
+  await a.waitForFunction((f) => Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) >= f + 20, f3);
+  const text = await a.textContent(sel('replay-frame'));
+  assert(/frame \d+ \/ \d+/.test(text), `the counter reads "${text}"`);
+  assert((await a.textContent(sel('replay-time'))).includes('s'), 'the timestamp is shown');
+});
+
+await test("A's depth and amplitude canvases show pictures with overlays", async () => {
+  for (const id of ['replay-depth', 'replay-amplitude']) {
+    const s = await canvasStats(a, id);
+    assertEqual(s.w, st.video.intrinsics.width * 3, `${id} is the video ×3 wide`);
+    assert(s.lit > s.pixels * 0.3, `${id} is not blank (${s.lit} of ${s.pixels} pixels lit)`);
+    assert(s.colours > 20, `${id} holds an image (${s.colours} colours)`);
+  }
+  await a.click(sel('replay-play')); // pause, so the picture stays put while overlays are toggled
+  await a.waitForFunction(() => document.querySelector('[data-testid="replay-controls"]')?.dataset.playing === 'false');
+  await a.waitForTimeout(300);
+  const d = await a.$eval(sel('replay-images'), (el) => ({ ...el.dataset }));
+  const overlays = Number(d.candidates) + Number(d.estimates) + Number(d.truthTips);
+  assert(overlays > 0, `overlays are drawn (candidates ${d.candidates}, estimates ${d.estimates}, truth ${d.truthTips})`);
+  if (st.video.has_truth) assert(Number(d.truthTips) > 0, `truth tips are drawn (${d.truthTips})`);
+  const withOverlays = await canvasStats(a, 'replay-depth');
+  for (const k of ['candidates', 'estimates', 'truth']) await a.uncheck(sel(`overlay-${k}`));
+  const bare = await canvasStats(a, 'replay-depth');
+  for (const k of ['candidates', 'estimates', 'truth']) await a.check(sel(`overlay-${k}`));
+  assert(bare.hash !== withOverlays.hash, 'turning the overlays off changes the picture');
+  console.log(`        frame ${d.frame}: ${d.candidates} candidates, ${d.estimates} teat estimates, ${d.truthTips} truth tips, ${d.truthBoxes} boxes`);
+  await a.mouse.move(5, 5);
+  await a.screenshot({ path: path.join(ARTIFACTS, 'tracker-a.png') });
+});
+
+await test('the state timeline covers the whole video once the replay is done', async () => {
+  await b.waitForFunction(
+    (n) => Number(document.querySelector('[data-testid="state-timeline"]')?.dataset.known) === n,
+    st.frames,
+    { timeout: 120_000 },
+  );
+  const d = await b.$eval(sel('state-timeline'), (el) => ({ ...el.dataset }));
+  assertEqual(Number(d.track) + Number(d.lost) + Number(d.search), st.frames, 'every frame has a state');
+  const r = await (await fetch(`${BASE_URL}/api/v1/replays/${encodeURIComponent(st.replay)}`)).json();
+  assert(r.done, 'the replay is done');
+  console.log(`        ${d.track} track, ${d.lost} lost, ${d.search} search of ${st.frames}; run ${r.run}`);
+});
+
+await test('seek in B by clicking the state timeline: every view moves to the clicked frame', async () => {
+  await b.bringToFront();
+  const box = await b.locator(sel('state-timeline')).boundingBox();
+  const expected = Math.floor(st.frames * 0.62);
+  await b.mouse.click(box.x + frameX(expected, box.width), box.y + box.height / 2);
+  await b.waitForFunction(
+    (f) =>
+      Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) === f &&
+      Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f &&
+      Number(document.querySelector('[data-testid="frame-data"]')?.dataset.frame) === f,
+    expected,
+  );
+  assertEqual(await num(b, sel('state-timeline'), 'data-cursor'), expected, 'the timeline cursor');
+  assertEqual(await num(b, sel('trajectory-z'), 'data-cursor'), expected, 'the trajectory cursor');
+  assertEqual(Number(await b.textContent(sel('frame-data-index'))), expected, 'the frame-data view');
+  const aFrame = await num(a, sel('replay-frame'), 'data-frame');
+  assert(aFrame !== expected || aFrame === 0, `A's cursor stays its own (${aFrame})`);
+  console.log(`        clicked frame ${expected}`);
+});
+
+await test('seek in B by clicking a trajectory plot, then step +1 (button) and +1 (→ key)', async () => {
+  const box = await b.locator(sel('trajectory-x')).boundingBox();
+  const expected = Math.floor(st.frames * 0.2);
+  await b.mouse.click(box.x + frameX(expected, box.width), box.y + box.height / 2);
+  await b.waitForFunction((f) => Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f, expected);
+  await b.click(sel('replay-step'));
+  await b.waitForFunction((f) => Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f, expected + 1);
+  assertEqual(await num(b, sel('state-timeline'), 'data-cursor'), expected + 1, 'the timeline follows a step');
+  await b.keyboard.press('ArrowRight');
+  await b.waitForFunction((f) => Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f, expected + 2);
+  const pts = Number(await b.getAttribute(sel('trajectories'), 'data-points'));
+  assert(pts > 0, `the trajectories hold estimates (${pts} points)`);
+  if (st.video.has_truth) assert(Number(await b.getAttribute(sel('trajectories'), 'data-truth-points')) > 0, 'and truth');
+  const pairs = await b.locator(`${sel('frame-pairs')} thead th`).allTextContents();
+  assertEqual(pairs.slice(1).join(' '), 'FL–FR RL–RR FL–RL FR–RR FL–RR FR–RL', 'the six model pairs are listed');
+});
+
+await test(`the ${VIDEO} timeline shows tracking (blue) and lost (red)`, async () => {
+  const d = await b.$eval(sel('state-timeline'), (el) => ({ ...el.dataset }));
+  const px = await timelineColours(b);
+  console.log(`        states: ${d.track} track, ${d.lost} lost, ${d.search} search; pixels: ${px.blue} blue, ${px.red} red of ${px.width}`);
+  assert(Number(d.track) > 0 && px.blue > 0, `frames in TRACK are drawn blue (${d.track} frames, ${px.blue} px)`);
+  assert(Number(d.lost) > 0 && px.red > 0, `frames in LOST are drawn red (${d.lost} frames, ${px.red} px): the tracker should go LOST while the cups cover the teats`);
+});
+
+await test('screenshots', async () => {
+  await b.bringToFront();
+  await b.mouse.move(5, 5);
+  await b.screenshot({ path: path.join(ARTIFACTS, 'tracker-b.png') });
+  // The whole view (the tracker scrolls inside the page): a taller window for this one.
+  await b.setViewportSize({ width: 1440, height: 1500 });
+  await b.waitForTimeout(300);
+  await b.screenshot({ path: path.join(ARTIFACTS, 'tracker.png') });
+  await b.setViewportSize({ width: 1440, height: 1000 });
+});
+
+await test('the Flights tab still shows the map dashboard', async () => {
+  await b.click(sel('tab-map'));
+  await b.waitForFunction(() => document.getElementById('app')?.dataset.view === 'map');
+  await b.waitForSelector(`${sel('dataset-select')} option`, { state: 'attached' });
+  assert(await b.isVisible(sel('map')), 'the map is visible');
+  assert(!(await b.isVisible(sel('tracker'))), 'the tracker is hidden');
+  await b.goBack();
+  await b.waitForFunction(() => document.getElementById('app')?.dataset.view === 'tracker');
+});
+
+await test('the parameter form: a bad value is refused in place, a good one starts a replay with it', async () => {
+  await a.bringToFront();
+  await a.click('.tracker-params-details summary');
+  await a.fill(sel('tracker-param-n_lost'), '2.5');
+  await a.click(sel('replay-start'));
+  const err = await a.textContent(sel('tracker-error'));
+  assert(/n_lost/.test(err), `the error names the parameter: "${err}"`);
+  assertEqual(await a.getAttribute(sel('tracker-param-n_lost'), 'aria-invalid'), '', 'the field is marked invalid');
+  assertEqual(await a.getAttribute(sel('tracker'), 'data-replay'), st.replay, 'no replay was started');
+  await a.fill(sel('tracker-param-n_lost'), '');
+  await a.fill(sel('tracker-param-ncc_min'), '0.6');
+  await a.click(sel('replay-start'));
+  await a.waitForFunction((old) => {
+    const t = document.querySelector('[data-testid="tracker"]');
+    return t?.dataset.replay !== old && t?.dataset.state === 'ready';
+  }, st.replay);
+  const id = await a.getAttribute(sel('tracker'), 'data-replay');
+  const r = await (await fetch(`${BASE_URL}/api/v1/replays/${encodeURIComponent(id)}`)).json();
+  assertEqual(r.params.ncc_min, 0.6, 'the replay runs with the value typed');
+  await a.waitForFunction(() => document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true');
+});
+
+await test('no request went to a non-loopback host', async () => {
+  const outside = [...new Set(requests.filter(leavesMachine))];
+  assert(requests.some((u) => u.includes('/replays/')), 'replay requests were recorded');
+  assert(outside.length === 0, `requests left the machine: ${outside.slice(0, 5).join(', ')}`);
+});
+
+await test('no console errors', async () => {
+  assert(errors.length === 0, errors.slice(0, 5).join(' | '));
+});
+
+await browser.close();
+const passed = results.filter((r) => r.ok).length;
+const failed = results.length - passed;
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed === 0 ? 0 : 1);

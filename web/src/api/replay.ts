@@ -1,0 +1,214 @@
+// The tracker API: videos, parameters, replays and stored runs (REST), and one replay WebSocket viewer.
+
+import { ApiError, errorFromResponse, isAbort } from './client';
+import { decodeRunFrames, type FrameRecord, type FrameTruth } from './trackerLog';
+import type { PlayerState, Replay, ReplayOp, TrackerParam, Video } from './trackerTypes';
+import { parseFrameMessage, type FrameMessage } from './tsrf';
+
+async function request<T>(path: string, init: RequestInit = {}): Promise<T> {
+  let res: Response;
+  try {
+    res = await fetch(path, { ...init, headers: { Accept: 'application/json', ...init.headers } });
+  } catch (e) {
+    if (isAbort(e)) throw e;
+    throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
+  }
+  if (!res.ok) throw await errorFromResponse(res);
+  return (await res.json()) as T;
+}
+
+/** A list answered bare or wrapped ({videos: [...]}, {params: [...]}, ...). */
+function listOf<T>(body: unknown, key: string): T[] {
+  if (Array.isArray(body)) return body as T[];
+  if (body && typeof body === 'object') {
+    const v = (body as Record<string, unknown>)[key];
+    if (Array.isArray(v)) return v as T[];
+  }
+  return [];
+}
+
+const enc = encodeURIComponent;
+
+/** A parameter description as the server lists it (`default` or `default_value`). */
+export function normalizeParam(p: Record<string, unknown>): TrackerParam {
+  const n = (v: unknown, d: number) => (typeof v === 'number' && Number.isFinite(v) ? v : d);
+  return {
+    name: String(p.name ?? ''),
+    unit: typeof p.unit === 'string' ? p.unit : '',
+    default_value: n(p.default_value ?? p.default, NaN),
+    min: n(p.min, -Infinity),
+    max: n(p.max, Infinity),
+    integer: p.integer === true,
+    help: typeof p.help === 'string' ? p.help : '',
+  };
+}
+
+export const trackerApi = {
+  videos: async (signal?: AbortSignal) => listOf<Video>(await request<unknown>('/api/v1/videos', { signal }), 'videos'),
+
+  params: async (signal?: AbortSignal) =>
+    listOf<Record<string, unknown>>(await request<unknown>('/api/v1/tracker/params', { signal }), 'params').map(normalizeParam),
+
+  /** Starts a replay; empty `params` and no `colormap` keep the server's defaults. */
+  startReplay(video: string, params: Record<string, number>, colormap?: string) {
+    const body: Record<string, unknown> = { video };
+    if (Object.keys(params).length) body.params = params;
+    if (colormap) body.colormap = colormap;
+    return request<Replay>('/api/v1/replays', {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(body),
+    });
+  },
+
+  replay: (id: string, signal?: AbortSignal) => request<Replay>(`/api/v1/replays/${enc(id)}`, { signal }),
+
+  replays: async (signal?: AbortSignal) => listOf<Replay>(await request<unknown>('/api/v1/replays', { signal }), 'replays'),
+
+  /** Stops a replay and closes its viewers (its run, once stored, stays). */
+  async deleteReplay(id: string): Promise<void> {
+    let res: Response;
+    try {
+      res = await fetch(`/api/v1/replays/${enc(id)}`, { method: 'DELETE' });
+    } catch {
+      throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
+    }
+    if (!res.ok && res.status !== 404) throw await errorFromResponse(res);
+  },
+
+  /** Frame records [from, to) of a stored run, with their truth when the run has it (at most 1000 a page). */
+  async runFrames(run: string, from: number, to: number, signal?: AbortSignal): Promise<{ frame: FrameRecord; truth: FrameTruth | null }[]> {
+    const q = new URLSearchParams({ from: String(from), to: String(to) });
+    return decodeRunFrames(await request<unknown>(`/api/v1/runs/${enc(run)}/frames?${q.toString()}`, { signal }), from);
+  },
+};
+
+export interface HelloMessage {
+  replay: Partial<Replay>;
+  header: Record<string, unknown> | null;
+  state: PlayerState;
+}
+
+export interface ReplaySocketHandlers {
+  onHello(msg: HelloMessage): void;
+  onState(state: PlayerState): void;
+  onFrame(msg: FrameMessage): void;
+  onRun(run: string): void;
+  onError(error: string, detail: string): void;
+  onConnection(state: 'connecting' | 'open' | 'closed'): void;
+}
+
+function playerState(o: Record<string, unknown>, prev?: PlayerState): PlayerState {
+  const n = (k: string, d: number) => (typeof o[k] === 'number' ? (o[k] as number) : d);
+  const s: PlayerState = {
+    playing: typeof o.playing === 'boolean' ? o.playing : (prev?.playing ?? false),
+    frame: n('frame', prev?.frame ?? 0),
+    speed: n('speed', prev?.speed ?? 1),
+  };
+  const computed = typeof o.computed === 'number' ? o.computed : prev?.computed;
+  const done = typeof o.done === 'boolean' ? o.done : prev?.done;
+  if (computed !== undefined) s.computed = computed;
+  if (done !== undefined) s.done = done;
+  return s;
+}
+
+/** One viewer of a replay: its own cursor on the server. Reconnects with backoff while not closed. */
+export class ReplaySocket {
+  private ws: WebSocket | null = null;
+  private closed = false;
+  private retry = 0;
+  private timer: number | undefined;
+  private last: PlayerState | undefined;
+
+  constructor(
+    private readonly path: string,
+    private readonly handlers: ReplaySocketHandlers,
+  ) {}
+
+  open(): void {
+    this.closed = false;
+    this.connect();
+  }
+
+  close(): void {
+    this.closed = true;
+    window.clearTimeout(this.timer);
+    this.ws?.close();
+    this.ws = null;
+  }
+
+  get isOpen(): boolean {
+    return this.ws?.readyState === WebSocket.OPEN;
+  }
+
+  send(op: ReplayOp): boolean {
+    if (!this.ws || this.ws.readyState !== WebSocket.OPEN) return false;
+    this.ws.send(JSON.stringify(op));
+    return true;
+  }
+
+  private connect() {
+    const url = new URL(this.path, window.location.href);
+    url.protocol = url.protocol === 'https:' ? 'wss:' : 'ws:';
+    this.handlers.onConnection('connecting');
+    const ws = new WebSocket(url);
+    ws.binaryType = 'arraybuffer';
+    this.ws = ws;
+    ws.onopen = () => {
+      this.retry = 0;
+      this.handlers.onConnection('open');
+    };
+    ws.onmessage = (ev) => {
+      if (this.ws !== ws) return;
+      if (ev.data instanceof ArrayBuffer) {
+        try {
+          this.handlers.onFrame(parseFrameMessage(ev.data));
+        } catch (e) {
+          this.handlers.onError('bad_frame', String(e instanceof Error ? e.message : e));
+        }
+        return;
+      }
+      if (typeof ev.data === 'string') this.onText(ev.data);
+    };
+    ws.onclose = (ev) => {
+      if (this.ws !== ws) return;
+      this.ws = null;
+      this.handlers.onConnection('closed');
+      // 4xxx / 1008 (policy) from the server mean "this replay is gone": do not hammer it.
+      if (this.closed || ev.code === 1008 || (ev.code >= 4000 && ev.code < 5000)) return;
+      const delay = Math.min(15000, 500 * 2 ** this.retry++);
+      this.timer = window.setTimeout(() => this.connect(), delay);
+    };
+  }
+
+  private onText(text: string) {
+    let msg: Record<string, unknown>;
+    try {
+      const parsed: unknown = JSON.parse(text);
+      if (!parsed || typeof parsed !== 'object') return;
+      msg = parsed as Record<string, unknown>;
+    } catch {
+      return;
+    }
+    const obj = (v: unknown) => (v && typeof v === 'object' && !Array.isArray(v) ? (v as Record<string, unknown>) : null);
+    switch (msg.type) {
+      case 'hello': {
+        this.last = playerState(obj(msg.state) ?? {});
+        this.handlers.onHello({ replay: (obj(msg.replay) ?? {}) as Partial<Replay>, header: obj(msg.header), state: this.last });
+        break;
+      }
+      case 'state':
+        this.last = playerState(msg, this.last);
+        this.handlers.onState(this.last);
+        break;
+      case 'run':
+        if (typeof msg.run === 'string' && msg.run) this.handlers.onRun(msg.run);
+        break;
+      case 'error':
+        this.handlers.onError(String(msg.error ?? 'error'), String(msg.detail ?? ''));
+        break;
+      default:
+        break;
+    }
+  }
+}
