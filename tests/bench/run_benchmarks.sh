@@ -12,6 +12,7 @@
 #   BENCH_CSV_FLIGHTS=6500     demo flights written as the OpenSky CSV ingest input (≥ 5 M rows)
 #   BENCH_FLIGHTS=14000        demo flights for the summary/tile data set (≥ 10 M points)
 #   BENCH_TRACKER_FRAMES=1000  frames of each synthetic ToF scenario in the tracker benchmark
+#   BENCH_TRACKER_PEER_REPS=3  runs of each OpenCV peer tracker per scenario (CSRT: about a minute each)
 #   BENCH_PORT=18480           TrailScope server port;  BENCH_CH_PORT=18123 ClickHouse HTTP port (+1, +2 used)
 #   BENCH_QUICK=1              fewer repetitions and smaller data (a smoke run; not for BENCHMARKS.md)
 #   BENCH_KEEP=1               keep the generated CSVs and the ClickHouse data folder afterwards
@@ -42,7 +43,7 @@ if [ "${BENCH_QUICK:-0}" = 1 ]; then
   BUNDLE_REPS=3 BUNDLE_REF_REPS=1 BUNDLE_BIG_REPS=1 BUNDLE_1M=0
   CSV_FLIGHTS=${BENCH_CSV_FLIGHTS:-600} FLIGHTS=${BENCH_FLIGHTS:-1500}
 fi
-TRACKER_FRAMES=${BENCH_TRACKER_FRAMES:-1000} TRACKER_REPS=3 TRACKER_PEER_REPS=3
+TRACKER_FRAMES=${BENCH_TRACKER_FRAMES:-1000} TRACKER_REPS=3 TRACKER_PEER_REPS=${BENCH_TRACKER_PEER_REPS:-3}
 if [ "${BENCH_QUICK:-0}" = 1 ]; then
   TRACKER_FRAMES=${BENCH_TRACKER_FRAMES:-200} TRACKER_REPS=1 TRACKER_PEER_REPS=1
 fi
