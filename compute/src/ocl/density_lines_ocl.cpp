@@ -96,7 +96,7 @@ void warm_up_ops() {
     if (const std::string why = density_lines_ocl(s, out); !why.empty())
       throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of density_lines failed: " + why);
   }
-  bundle_warm_up();  // compute/src/ocl/bundle_ocl.cpp
+  bundle_warm_up();      // compute/src/ocl/bundle_ocl.cpp
   projection_warm_up();  // compute/src/ocl/projection_ocl.cpp
 }
 

@@ -86,8 +86,8 @@ struct FrameLog {
   /// windows around the predictions are prepared, so these count within the windows.
   int valid_pixels = 0;
   int flying_pixels = 0;
-  int matches = 0;        ///< NCC matches (local maxima >= ncc_min) before verification
-  int verified = 0;       ///< candidates whose 3D fit passed
+  int matches = 0;   ///< NCC matches (local maxima >= ncc_min) before verification
+  int verified = 0;  ///< candidates whose 3D fit passed
   std::vector<Candidate> candidates;
   ModelMetrics model;
   State state = State::search;

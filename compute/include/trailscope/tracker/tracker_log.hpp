@@ -28,15 +28,15 @@ struct NamedValue {
 
 struct RunHeader {
   int version = kTrackerLogVersion;
-  std::string run_id;       ///< unique id of the run (e.g. "run-20261122-155900-3f2a")
-  std::string video_id;     ///< the video's id in the store, or its file name
+  std::string run_id;    ///< unique id of the run (e.g. "run-20261122-155900-3f2a")
+  std::string video_id;  ///< the video's id in the store, or its file name
   std::string tracker_version = std::string(kTrackerVersion);
   std::vector<NamedValue> params;  ///< every parameter, parameter_infos() order
   std::vector<Tracker::TemplateInfo> template_bank;
   tof::Intrinsics intrinsics;
   double fps = 0;
-  std::size_t frame_count = 0;  ///< frames in the log
-  std::string created_utc;      ///< ISO 8601, e.g. "2026-11-22T15:59:00Z"
+  std::size_t frame_count = 0;                             ///< frames in the log
+  std::string created_utc;                                 ///< ISO 8601, e.g. "2026-11-22T15:59:00Z"
   nlohmann::json video_source = nlohmann::json::object();  ///< the video's source (generator, scenario, seed)
 };
 
@@ -111,8 +111,8 @@ struct Accuracy {
   /// within `within_mm` (frames with no visible teat are not counted).
   double frames_all_within = 0;
   double within_mm = 10;
-  double track_share = 0;          ///< share of frames in TRACK
-  std::size_t lost_episodes = 0;   ///< maximal runs of LOST frames
+  double track_share = 0;         ///< share of frames in TRACK
+  std::size_t lost_episodes = 0;  ///< maximal runs of LOST frames
   /// Per frame: the largest error over the visible teats (NaN when none visible, +inf when a visible
   /// teat was not reported) — for timelines.
   std::vector<double> frame_max_error_mm;
