@@ -1,7 +1,8 @@
 #pragma once
-// File helpers shared by the stores (datasets, graphs, bundles): one binary file per column, fsync before
-// a rename publishes a folder, and random suffixes for temporary folders. Every store writes a folder
-// into <root>/tmp/ and renames it into place, so a reader after a crash sees all of it or none of it.
+// File helpers shared by the stores (datasets, graphs, bundles, videos, runs, MOT files, sweeps): one binary
+// file per column, fsync before a rename publishes a folder or a file, and random suffixes for temporaries.
+// Every store writes a folder into <root>/tmp/ and renames it into place, so a reader after a crash sees all
+// of it or none of it.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -78,6 +79,30 @@ inline std::string random_suffix() {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%08x%08x", rd(), rd());
   return buf;
+}
+
+/// Publishes `bytes` as `dest` atomically: written to dest.tmp.<random> beside it, flushed, renamed over
+/// `dest`. A crash leaves the old file or the new one, never half of either; the temporary file of a
+/// failed write is removed (and a store's start-up removes any "*.tmp.*" a crash left behind).
+inline void write_file_atomic(const std::filesystem::path& dest, const std::string& bytes) {
+  const std::filesystem::path tmp =
+      dest.parent_path() / (dest.filename().string() + ".tmp." + random_suffix());
+  std::error_code ec;
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+      std::filesystem::remove(tmp, ec);
+      throw io_error(tmp, "write");
+    }
+  }
+  fsync_path(tmp);
+  std::filesystem::rename(tmp, dest, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw io_error(dest, "rename into");
+  }
 }
 
 }  // namespace trailscope::server::column_io

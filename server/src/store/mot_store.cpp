@@ -28,27 +28,6 @@ nlohmann::json figures(const Rows& rows) {
   return {{"rows", rows.size()}, {"frames", last}, {"ids", ids.size()}};
 }
 
-/// Writes `bytes` to `dest` through a temporary file and a rename, flushed to disk.
-void write_atomic(const fs::path& dest, const std::string& bytes) {
-  const fs::path tmp = dest.parent_path() / (dest.filename().string() + ".tmp." + random_suffix());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw io_error(tmp, "write");
-    }
-  }
-  fsync_path(tmp);
-  std::error_code ec;
-  fs::rename(tmp, dest, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw io_error(dest, "rename into");
-  }
-}
 }  // namespace
 
 MotStore::MotStore(fs::path root) : root_(std::move(root)) {
@@ -131,10 +110,10 @@ nlohmann::json MotStore::put(const std::string& name, const std::string& kind, c
   row["bytes"] = text.size();
   std::error_code ec;
   try {
-    write_atomic(text_file, text);
+    write_file_atomic(text_file, text);
     nlohmann::json on_disk = row;
     on_disk["magic"] = kMagic;
-    write_atomic(dir / (id + ".json"), json_text(on_disk));  // the row last
+    write_file_atomic(dir / (id + ".json"), json_text(on_disk));  // the row last
     fsync_path(dir);
   } catch (...) {
     fs::remove(text_file, ec);

@@ -172,16 +172,8 @@ nlohmann::json RunStore::put(tracker::TrackerLog log, const std::string& origin,
     row["bytes"] = fs::file_size(log_file, ec);
     nlohmann::json on_disk = row;
     on_disk["magic"] = kMagic;
-    const fs::path tmp = dir / (id + ".json.tmp." + random_suffix());
-    {
-      std::ofstream out(tmp, std::ios::trunc);
-      out << json_text(on_disk);
-      out.close();
-      if (!out) throw io_error(tmp, "write");
-    }
-    fsync_path(tmp);
-    fs::rename(tmp, row_file, ec);  // the row last: a log without one is removed at the next start
-    if (ec) throw io_error(row_file, "rename into");
+    write_file_atomic(row_file,
+                      json_text(on_disk));  // the row last: a log without one is removed at the next start
     fsync_path(dir);
   } catch (...) {
     fs::remove(log_file, ec);

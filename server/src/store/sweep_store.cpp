@@ -42,18 +42,7 @@ SweepStore::SweepStore(fs::path root) : root_(std::move(root)) {
 }
 
 void SweepStore::save_locked(const nlohmann::json& record) const {
-  const fs::path dir = root_ / "sweeps", dest = dir / (record.at("id").get<std::string>() + ".json");
-  const fs::path tmp = dir / (dest.filename().string() + ".tmp." + random_suffix());
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << json_text(record);
-    out.close();
-    if (!out) throw io_error(tmp, "write");
-  }
-  fsync_path(tmp);
-  std::error_code ec;
-  fs::rename(tmp, dest, ec);
-  if (ec) throw io_error(dest, "rename into");
+  write_file_atomic(root_ / "sweeps" / (record.at("id").get<std::string>() + ".json"), json_text(record));
 }
 
 std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, std::size_t total) {
