@@ -3,11 +3,10 @@
 // malformed files are refused with the reader's message; list, get, delete and persistence; the metrics
 // body's errors.
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
 #include "tracker_fixture.hpp"
 #include "trailscope/metrics/evaluate.hpp"
 #include "trailscope/metrics/mot_text.hpp"
@@ -22,28 +21,6 @@ const std::filesystem::path& gt_file() {
 const std::filesystem::path& run_file() {
   static const auto p = test::shared_data("tracker/mot/tracker_MoTT/MOT17-09-FRCNN.txt");
   return p;
-}
-
-/// The CSV row of `seq` as column name -> value (as tests/compute/metrics/mot17_golden_test.cpp).
-std::map<std::string, double> reference_row(const std::filesystem::path& csv, const std::string& seq) {
-  std::ifstream in(csv);
-  std::string header, line;
-  std::getline(in, header);
-  const auto split = [](const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
-    return out;
-  };
-  const auto names = split(header);
-  while (std::getline(in, line)) {
-    const auto values = split(line);
-    if (values.empty() || values[0] != seq) continue;
-    std::map<std::string, double> row;
-    for (std::size_t k = 1; k < names.size() && k < values.size(); ++k) row[names[k]] = std::stod(values[k]);
-    return row;
-  }
-  return {};
 }
 
 class MotTest : public test_routes::TrackerFixture {
@@ -82,7 +59,7 @@ TEST_F(MotTest, Mot17UploadedAndEvaluatedReproducesTrackEval) {
   EXPECT_EQ(m["IDSW"], 32);
   // Every column TrackEval wrote for the sequence.
   const auto reference =
-      reference_row(test::shared_data("tracker/mot/tracker_MoTT/pedestrian_detailed.csv"), "MOT17-09-FRCNN");
+      test::csv_row(test::shared_data("tracker/mot/tracker_MoTT/pedestrian_detailed.csv"), "MOT17-09-FRCNN");
   ASSERT_FALSE(reference.empty());
   for (const auto& [name, value] : reference) {
     ASSERT_TRUE(m.contains(name)) << name;

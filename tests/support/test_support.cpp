@@ -1,6 +1,9 @@
 #include "test_support.hpp"
 
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <vector>
 #include <random>
 #include <stdexcept>
 
@@ -36,6 +39,38 @@ TempDir::TempDir() {
 TempDir::~TempDir() {
   std::error_code ec;
   fs::remove_all(path_, ec);
+}
+
+std::map<std::string, double> csv_row(const fs::path& csv, const std::string& key) {
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  const auto split = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+    return out;
+  };
+  const auto names = split(header);
+  while (std::getline(in, line)) {
+    const auto values = split(line);
+    if (values.empty() || values[0] != key) continue;
+    std::map<std::string, double> row;
+    for (std::size_t k = 1; k < names.size() && k < values.size(); ++k) row[names[k]] = std::stod(values[k]);
+    return row;
+  }
+  return {};
+}
+
+ScopedEnv::ScopedEnv(const char* name, const char* value) : name_(name) {
+  if (const char* old = std::getenv(name)) old_ = old, had_ = true;
+  setenv(name, value, 1);
+}
+ScopedEnv::~ScopedEnv() {
+  if (had_)
+    setenv(name_.c_str(), old_.c_str(), 1);
+  else
+    unsetenv(name_.c_str());
 }
 
 }  // namespace trailscope::test

@@ -13,28 +13,6 @@
 namespace trailscope::metrics {
 namespace {
 
-/// The CSV row of `seq` as column name -> value.
-std::map<std::string, double> reference_row(const std::filesystem::path& csv, const std::string& seq) {
-  std::ifstream in(csv);
-  std::string header, line;
-  std::getline(in, header);
-  const auto split = [](const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
-    return out;
-  };
-  const auto names = split(header);
-  while (std::getline(in, line)) {
-    const auto values = split(line);
-    if (values.empty() || values[0] != seq) continue;
-    std::map<std::string, double> row;
-    for (std::size_t k = 1; k < names.size() && k < values.size(); ++k) row[names[k]] = std::stod(values[k]);
-    return row;
-  }
-  return {};
-}
-
 class Mot17Golden : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -43,7 +21,7 @@ class Mot17Golden : public ::testing::Test {
     MetricsOptions options;
     options.frames = 525;  // seqLength in seqinfo.ini
     report_ = new MetricsReport(evaluate_text(gt, run, options));
-    reference_ = new std::map<std::string, double>(reference_row(
+    reference_ = new std::map<std::string, double>(test::csv_row(
         test::shared_data("tracker/mot/tracker_MoTT/pedestrian_detailed.csv"), "MOT17-09-FRCNN"));
   }
   static void TearDownTestSuite() {

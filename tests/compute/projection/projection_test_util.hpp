@@ -7,9 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "test_support.hpp"
 #include "trailscope/projection/table.hpp"
 
 namespace trailscope::projection::test {
+
+using trailscope::test::ScopedEnv;
 
 /// `clusters` isotropic Gaussian clusters (std 1) in `dims` dimensions whose centres are drawn
 /// uniformly in [0, separation]^dims; label = cluster of each row.
@@ -36,27 +39,6 @@ inline Table gaussian_clusters(std::size_t rows, std::size_t dims, int clusters,
   for (std::size_t d = 0; d < dims; ++d) t.columns.push_back("x" + std::to_string(d));
   return t;
 }
-
-/// Sets an environment variable for the lifetime of the object.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old, had_ = true;
-    setenv(name, value, 1);
-  }
-  ~ScopedEnv() {
-    if (had_)
-      setenv(name_.c_str(), old_.c_str(), 1);
-    else
-      unsetenv(name_.c_str());
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  std::string name_, old_;
-  bool had_ = false;
-};
 
 /// Euclidean distance of rows i, j of an n × 2 layout.
 inline double dist2d(const std::vector<double>& xy, std::size_t i, std::size_t j) {
