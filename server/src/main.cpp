@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   trailscope::cli::add_dmd(app);
   trailscope::cli::add_project(app);
   trailscope::cli::add_track(app);
+  trailscope::cli::add_compare(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -10,8 +10,7 @@
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/json_text.hpp"
 #include "trailscope/core/limits.hpp"
-#include "trailscope/projection/projection.hpp"
-#include "trailscope/projection/quality.hpp"
+#include "trailscope/projection/report.hpp"
 
 namespace trailscope::cli {
 
@@ -61,25 +60,15 @@ void add_project(CLI::App& app) {
     po.iterations = o->iterations;
     po.seed = o->seed;
     po.standardize = !o->no_standardize;
-    if (o->k < 1 || o->k > limits::kMaxQualityK)
-      throw invalid_argument(
-          "k", "k must be in [1, " + std::to_string(limits::kMaxQualityK) + "], not " + std::to_string(o->k));
     const projection::Table table = projection::read_table_csv(o->table, "table");
-    projection::Embedding e;
-    projection::Quality q;
+    projection::ProjectionReport r;
     {
       ProgressBar bar("project", !o->quiet);
       po.progress = bar.fn();
-      e = projection::project(table, po);
-      bar.update(1.0, "quality");
-      projection::Table seen = table;  // quality in the space the method saw
-      if (po.standardize) projection::standardize(seen);
-      projection::QualityOptions qo;
-      qo.k = std::min<int>(o->k, static_cast<int>((table.rows - 1) / 2));
-      qo.seed = o->seed;
-      qo.backend = po.backend;
-      q = projection::quality(seen, e.xy, qo);
+      r = projection::project_with_quality(table, po, o->k);
     }
+    const projection::Embedding& e = r.embedding;
+    const projection::Quality& q = r.quality;
     if (!o->out.empty()) {
       std::ofstream out(o->out);
       if (!out) throw invalid_argument("out", "cannot write '" + o->out + "'");
@@ -87,26 +76,8 @@ void add_project(CLI::App& app) {
       for (std::size_t i = 0; i < e.rows; ++i) out << e.x(i) << ',' << e.y(i) << '\n';
       if (!out.flush()) throw Error(Error::Kind::internal, "out", "write to '" + o->out + "' failed");
     }
-    nlohmann::json quality = {{"k", q.k},
-                              {"trustworthiness", q.trustworthiness},
-                              {"continuity", q.continuity},
-                              {"neighborhood_preservation", q.neighborhood_preservation},
-                              {"stress", q.stress},
-                              {"shepard", q.shepard},
-                              {"sampled", q.sampled},
-                              {"queries", q.queries}};
     if (o->json) {
-      nlohmann::json j = {{"method", projection::to_string(po.method)},
-                          {"rows", table.rows},
-                          {"columns", table.columns},
-                          {"path", e.path},
-                          {"variant", e.variant},
-                          {"quality", quality}};
-      for (const auto& [phase, ms] : e.timings_ms) j["timings_ms"][phase] = ms;
-      nlohmann::json coords = nlohmann::json::array();
-      for (std::size_t i = 0; i < e.rows; ++i) coords.push_back({e.x(i), e.y(i)});
-      j["coordinates"] = std::move(coords);
-      std::cout << json_text(j, 2) << std::endl;
+      std::cout << json_text(projection::to_json(r), 2) << std::endl;
       return;
     }
     std::cout << projection::to_string(po.method) << " (" << e.variant << ", " << e.path << ") of "

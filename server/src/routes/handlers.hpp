@@ -63,6 +63,8 @@ Response create_sweep(App& app, const Request& req, const PathParams& p);
 Response list_sweeps(App& app, const Request& req, const PathParams& p);
 Response get_sweep(App& app, const Request& req, const PathParams& p);
 Response importance(App& app, const Request& req, const PathParams& p);
+Response create_projection(App& app, const Request& req, const PathParams& p);
+Response compare_runs(App& app, const Request& req, const PathParams& p);
 
 Response list_replays(App& app, const Request& req, const PathParams& p);
 Response create_replay(App& app, const Request& req, const PathParams& p);

@@ -74,19 +74,9 @@ Response compute_metrics(App& app, const Request& req, const PathParams&) {
     options.kind = metrics::SimilarityKind::distance;
   else
     throw invalid_argument("similarity", "similarity must be iou or distance, got '" + similarity + "'");
-  if (j.contains("d_max")) {
-    if (!j["d_max"].is_number()) throw invalid_argument("d_max", "d_max: must be a number");
-    options.d_max = j["d_max"].get<double>();
-  }
-  if (j.contains("frames")) {
-    if (!j["frames"].is_number_integer()) throw invalid_argument("frames", "frames: must be an integer");
-    options.frames = j["frames"].get<std::int64_t>();
-  }
-  bool per_frame = false;
-  if (j.contains("per_frame")) {
-    if (!j["per_frame"].is_boolean()) throw invalid_argument("per_frame", "per_frame: must be true or false");
-    per_frame = j["per_frame"].get<bool>();
-  }
+  options.d_max = number_field(j, "d_max", options.d_max);
+  options.frames = integer_field(j, "frames", options.frames);
+  const bool per_frame = bool_field(j, "per_frame", false);
   MotStore& store = mot_store(app);
   const bool iou = options.kind == metrics::SimilarityKind::iou;
   const std::string gt = mot_text(store, j, "gt", iou ? "gt" : "points", similarity);

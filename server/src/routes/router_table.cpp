@@ -75,10 +75,12 @@ Router make_router(App& app) {
   r.add("DELETE", "/api/v1/mot/{mot}", bind(delete_mot));   // 204 404
   r.add("POST", "/api/v1/metrics", bind(compute_metrics));  // 200 400 404 413 422
   // Parameter sweeps.
-  r.add("GET", "/api/v1/sweeps", bind(list_sweeps));        // 200
-  r.add("POST", "/api/v1/sweeps", bind(create_sweep));      // 202 400 404 409 413 422
-  r.add("GET", "/api/v1/sweeps/{sweep}", bind(get_sweep));  // 200 404
-  r.add("GET", "/api/v1/importance", bind(importance));     // 200 400 404 413 422
+  r.add("GET", "/api/v1/sweeps", bind(list_sweeps));              // 200
+  r.add("POST", "/api/v1/sweeps", bind(create_sweep));            // 202 400 404 409 413 422
+  r.add("GET", "/api/v1/sweeps/{sweep}", bind(get_sweep));        // 200 404
+  r.add("GET", "/api/v1/importance", bind(importance));           // 200 400 404 413 422
+  r.add("POST", "/api/v1/projections", bind(create_projection));  // 200 400 404 413 422
+  r.add("POST", "/api/v1/compare", bind(compare_runs));           // 200 400 404 413 422
   // Live replays.
   r.add("GET", "/api/v1/replays", bind(list_replays));               // 200
   r.add("POST", "/api/v1/replays", bind(create_replay));             // 201 400 404 409

@@ -36,4 +36,25 @@ std::string string_field(const nlohmann::json& j, const std::string& name) {
   return it->get<std::string>();
 }
 
+double number_field(const nlohmann::json& j, const std::string& name, double fallback) {
+  auto it = j.find(name);
+  if (it == j.end()) return fallback;
+  if (!it->is_number()) throw invalid_argument(name, name + ": must be a number");
+  return it->get<double>();
+}
+
+std::int64_t integer_field(const nlohmann::json& j, const std::string& name, std::int64_t fallback) {
+  auto it = j.find(name);
+  if (it == j.end()) return fallback;
+  if (!it->is_number_integer()) throw invalid_argument(name, name + ": must be an integer");
+  return it->get<std::int64_t>();
+}
+
+bool bool_field(const nlohmann::json& j, const std::string& name, bool fallback) {
+  auto it = j.find(name);
+  if (it == j.end()) return fallback;
+  if (!it->is_boolean()) throw invalid_argument(name, name + ": must be true or false");
+  return it->get<bool>();
+}
+
 }  // namespace trailscope::server

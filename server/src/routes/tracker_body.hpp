@@ -1,6 +1,8 @@
 #pragma once
-// JSON bodies of the tracker routes (POST /api/v1/videos/synth, /runs/track, /replays): a JSON object
-// with known fields only, and the tracker parameters as {name: number}. Every error names its field.
+// JSON bodies of the POST routes (videos/synth, runs/track, replays, projections, compare, ...): a JSON
+// object with known fields only, typed optional fields, and the tracker parameters as {name: number}.
+// Every error names its field.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,5 +23,11 @@ tracker::TrackerParams parse_tracker_params(const nlohmann::json& params);
 
 /// A required string field. Throws invalid_argument(name).
 std::string string_field(const nlohmann::json& j, const std::string& name);
+
+/// Optional typed fields: `fallback` when absent; invalid_argument(name) for a value of another type
+/// (integer_field also refuses a fractional number).
+double number_field(const nlohmann::json& j, const std::string& name, double fallback);
+std::int64_t integer_field(const nlohmann::json& j, const std::string& name, std::int64_t fallback);
+bool bool_field(const nlohmann::json& j, const std::string& name, bool fallback);
 
 }  // namespace trailscope::server

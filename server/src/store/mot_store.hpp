@@ -4,14 +4,13 @@
 // last (temporary file + rename, as the text before it): a text without its row is an interrupted write
 // and is removed at the next start. Rows stay in memory; texts are read on use. At most
 // limits::kMaxStoredRuns files are kept; one more is refused (409).
-#include <cstdint>
 #include <filesystem>
-#include <map>
-#include <mutex>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "store/row_store.hpp"
 
 namespace trailscope::server {
 
@@ -35,11 +34,7 @@ class MotStore {
   void remove(const std::string& id);
 
  private:
-  std::filesystem::path root_;
-  mutable std::mutex mu_;
-  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
-  std::map<std::string, nlohmann::json> meta_;
-  std::uint64_t next_ = 1;
+  RowStore rows_;
 };
 
 }  // namespace trailscope::server

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <list>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -15,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/row_store.hpp"
 #include "trailscope/tracker/tracker_log.hpp"
 
 namespace trailscope::server {
@@ -53,14 +53,11 @@ class RunStore {
   std::size_t size() const;
 
  private:
-  void touch_locked(const std::string& id, std::shared_ptr<const tracker::TrackerLog> log) const;
+  void touch(const std::string& id, std::shared_ptr<const tracker::TrackerLog> log) const;
 
-  std::filesystem::path root_;
-  mutable std::mutex mu_;
-  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
-  std::map<std::string, nlohmann::json> meta_;
+  RowStore rows_;
+  mutable std::mutex cache_mu_;  ///< guards loaded_
   mutable std::list<std::pair<std::string, std::shared_ptr<const tracker::TrackerLog>>> loaded_;
-  std::uint64_t next_ = 1;
 };
 
 }  // namespace trailscope::server

@@ -65,5 +65,20 @@ for flag in --a-min --z-min-mm --median-k --ncc-min --kalman-q --kalman-r-mm --m
 done
 contains "--help shows unit, range and default" "[mm, 0..5000, default 80]" "$TMP/help"
 
+# `trailscope compare`: the two logs above share frames 5..34 and differ in ncc_min.
+"$BIN" compare "$TMP/run.json" "$TMP/run.tslog" --json --top 3 > "$TMP/cmp.json" 2> "$TMP/err"
+check "compare exit" 0 $?
+check "compare shared range" "5 30" "$(json '" ".join(map(str, [d["first_frame"], d["frames"]]))' < "$TMP/cmp.json")"
+check "compare series per run" "30 30" "$(json '" ".join(str(len(s["state"])) for s in d["series"])' < "$TMP/cmp.json")"
+check "compare differing parameter first" "ncc_min True [0.6, 0.35]" "$(json '" ".join(map(str, [d["params"][0]["name"], d["params"][0]["differs"], d["params"][0]["values"]]))' < "$TMP/cmp.json")"
+check "compare top" True "$(json 'len(d["disagreements"]) <= 3' < "$TMP/cmp.json")"
+"$BIN" compare "$TMP/run.tslog" > "$TMP/out.txt" 2> "$TMP/err"
+check "compare one run exit" 2 $?
+check "compare one run message" "trailscope: runs: compare 2 to 8 runs, got 1" "$(cat "$TMP/err")"
+"$BIN" compare "$TMP/run.tslog" "$TMP/run.json" > "$TMP/out.txt" 2>&1
+check "compare text exit" 0 $?
+contains "compare text names the video" "2 runs of video 'clip', frames 5..34" "$TMP/out.txt"
+contains "compare text marks the differing parameter" "* ncc_min" "$TMP/out.txt"
+
 echo "$PASS passed, $FAIL failed"
 [ "$FAIL" -eq 0 ]

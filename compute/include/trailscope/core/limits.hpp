@@ -155,5 +155,17 @@ inline constexpr int kMaxQualityK = 100;
 inline constexpr std::size_t kMaxImportanceSamples = 100'000;
 /// Most tracker runs one sweep may start (parameter points x videos).
 inline constexpr std::size_t kMaxSweepRuns = 5000;
+/// Most runs compared side by side (lanes of the aligned timelines; the disagreement score is pairwise).
+inline constexpr std::size_t kMaxCompareRuns = 8;
+/// Most shared frames of a comparison: its series are ~12 numbers per run and frame of JSON, so 8 runs of
+/// this many frames are ~20 MB.
+inline constexpr std::size_t kMaxCompareFrames = 50'000;
+/// Most disagreement frames one comparison lists.
+inline constexpr std::size_t kMaxCompareTop = 1000;
+/// Most rows and cells (rows × columns) of a table POST /api/v1/projections projects: the request is
+/// answered synchronously (a t-SNE of 20k rows takes tens of seconds here); larger tables go through
+/// `trailscope project`, which reads a CSV file and shows progress.
+inline constexpr std::size_t kMaxProjectionRequestRows = 20'000;
+inline constexpr std::size_t kMaxProjectionRequestCells = 2'000'000;
 
 }  // namespace trailscope::limits
