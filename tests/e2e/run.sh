@@ -3,10 +3,14 @@
 #   1. a temporary data dir, 2. `trailscope ingest` of the Europe SO6 day as "europe",
 #   3. `trailscope serve` on a free port (127.0.0.1 only), 4. the flight dashboard test (dashboard.test.mjs),
 #   5. a second server on its own data dir with `--demo` (the synthetic tracker videos) and the tracker
-#      dashboard test (tracker.test.mjs), 6. the servers are always stopped.
+#      dashboard test (tracker.test.mjs), 6. a third server on its own empty data dir and the runs
+#      dashboard test (runs.test.mjs: it makes short synthetic videos and a 200-run sweep through the API),
+#   7. the servers are always stopped.
 # Environment: TRAILSCOPE_BIN (default build/server/trailscope), TRAILSCOPE_SHARED (default ../shared),
 #              CHROMIUM (default /usr/bin/chromium), E2E_KEEP=1 keeps the temp dir,
-#              E2E_ONLY=dashboard|tracker runs one of the two tests.
+#              E2E_ONLY=dashboard|tracker|runs runs one of the three tests; RUNS_SAMPLES, RUNS_FRAMES
+#              and RUNS_SCENARIOS size the runs test's sweep (default 100 points × standard, fast-motion
+#              videos of 64 frames).
 # Prints "N passed, M failed" last; exits non-zero on any failure.
 set -euo pipefail
 
@@ -18,7 +22,7 @@ DATA="$SHARED/data/flights/traffic_europe_20180101_m3.so6.gz"
 
 die() { echo "run.sh: $*" >&2; echo "0 passed, 1 failed"; exit 1; }
 [ -x "$BIN" ] || die "$BIN is missing: build the server first (or set TRAILSCOPE_BIN)"
-[ "${E2E_ONLY:-}" = tracker ] || [ -f "$DATA" ] || die "$DATA is missing (set TRAILSCOPE_SHARED to the shared folder)"
+[ "${E2E_ONLY:-}" = tracker ] || [ "${E2E_ONLY:-}" = runs ] || [ -f "$DATA" ] || die "$DATA is missing (set TRAILSCOPE_SHARED to the shared folder)"
 
 # The front-end: rebuild when web/dist is missing or older than its sources.
 if [ ! -f web/dist/index.html ] || [ -n "$(find web/src web/index.html web/vite.config.ts -newer web/dist/index.html -print -quit)" ]; then
@@ -96,5 +100,12 @@ if [ -z "$ONLY" ] || [ "$ONLY" = tracker ]; then
   # flight data set, which the flight test's server must not see.
   start_server tracker "$TMP/tracker-data" --demo --demo-flights 200
   run_test tracker.test.mjs TRACKER_VIDEO=cups-attached
+fi
+
+if [ -z "$ONLY" ] || [ "$ONLY" = runs ]; then
+  # Its own server and empty data dir: the test makes its videos and its sweep, so the sweep's runs are
+  # the only runs there.
+  start_server runs "$TMP/runs-data"
+  run_test runs.test.mjs
 fi
 exit "$status"

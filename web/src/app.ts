@@ -17,6 +17,7 @@ import { MapView } from './views/map';
 import { SummaryView } from './views/summary';
 import { TimeBrush } from './views/timeBrush';
 import { isTrackerHash } from './tracker/route';
+import { isRunsHash } from './runs/route';
 
 const SUMMARY_BINS = 96;
 const PAGE_SIZE = 50;
@@ -374,8 +375,8 @@ export class App {
   }
 
   private syncHash() {
-    // The tracker view owns the URL while it is shown (#tracker…).
-    if (isTrackerHash(window.location.hash)) return;
+    // The tracker and runs views own the URL while they are shown (#tracker…, #runs…).
+    if (isTrackerHash(window.location.hash) || isRunsHash(window.location.hash)) return;
     const s = this.store.get();
     if (!s.datasetId) return;
     const q = buildQuery({ ...s.filters, bbox: null });

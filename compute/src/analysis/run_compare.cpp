@@ -168,7 +168,10 @@ std::pair<double, int> frame_disagreement(const std::vector<const FrameLog*>& fr
         if (frames[b]->teats[t].visible)
           spread = std::max(spread, distance(frames[a]->teats[t].tip_mm, frames[b]->teats[t].tip_mm));
     }
-    if (seen > 0 && seen < frames.size()) spread = std::max(spread, miss_mm);
+    // A miss adds in proportion to the runs that miss, so frames with the same pattern of misses still rank
+    // by how far the reporting runs are apart (a run that never tracks would otherwise tie every frame).
+    if (seen > 0 && seen < frames.size())
+      spread += miss_mm * static_cast<double>(frames.size() - seen) / static_cast<double>(frames.size());
     sum += spread;
     if (spread > worst) worst = spread, worst_teat = t;
   }

@@ -53,17 +53,18 @@ TEST(RunCompare, DisagreementsAreRankedByTheirScore) {
   EXPECT_EQ(cmp.video, "v1");
   EXPECT_EQ(cmp.first_frame, 0u);
   EXPECT_EQ(cmp.frames, 10u);
-  // Frame 7: FR seen by A and B, not C → 50 mm; mean over four teats 12.5. Frames 3–5: FL spread 30 → 7.5.
+  // Frames 3–5: FL spread 30 → 7.5. Frame 7: FR seen by A and B (together), missed by one run of three →
+  // 50 / 3; mean over four teats 25 / 6.
   ASSERT_EQ(cmp.disagreements.size(), 4u);
-  EXPECT_EQ(cmp.disagreements[0].frame, 7u);
-  EXPECT_DOUBLE_EQ(cmp.disagreements[0].score_mm, 12.5);
-  EXPECT_EQ(cmp.disagreements[0].worst_teat, 1);
-  EXPECT_EQ(cmp.disagreements[0].states, (std::vector<int>{1, 1, 2}));
-  for (std::size_t k = 1; k < 4; ++k) {
-    EXPECT_EQ(cmp.disagreements[k].frame, k + 2);  // equal scores: earlier frame first
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(cmp.disagreements[k].frame, k + 3);  // equal scores: earlier frame first
     EXPECT_NEAR(cmp.disagreements[k].score_mm, 7.5, 1e-12);
     EXPECT_EQ(cmp.disagreements[k].worst_teat, 0);
   }
+  EXPECT_EQ(cmp.disagreements[3].frame, 7u);
+  EXPECT_NEAR(cmp.disagreements[3].score_mm, 25.0 / 6.0, 1e-12);
+  EXPECT_EQ(cmp.disagreements[3].worst_teat, 1);
+  EXPECT_EQ(cmp.disagreements[3].states, (std::vector<int>{1, 1, 2}));
   // The series: B's FL error is its offset, C's FR in frame 7 is a miss (NaN per teat, +inf as the max).
   ASSERT_EQ(cmp.series.size(), 3u);
   EXPECT_NEAR(cmp.series[1].teat_error_mm[4][0], 30.0, 1e-12);
@@ -183,7 +184,7 @@ TEST(RunCompare, JsonCarriesMissesAsInfinityAndGapsAsNull) {
   EXPECT_EQ(j["series"][1]["teat_error_mm"][1][0], nullptr);
   EXPECT_EQ(j["series"][1]["teat_error_mm"][1][1], 0.0);
   EXPECT_EQ(j["disagreements"][0]["worst_teat"], "FL");
-  EXPECT_EQ(j["disagreements"][0]["score_mm"], 12.5);
+  EXPECT_EQ(j["disagreements"][0]["score_mm"], 6.25);  // a miss by one run of two: 50 / 2, over four teats
   EXPECT_EQ(j["params"][0]["name"], "ncc_min");
 }
 

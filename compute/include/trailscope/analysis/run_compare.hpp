@@ -17,8 +17,9 @@ namespace trailscope::analysis {
 struct CompareOptions {
   /// Disagreements listed, largest first: 1..limits::kMaxCompareTop.
   std::size_t top = 20;
-  /// What a teat reported visible by some runs and not by others adds to a frame's score, mm (> 0): about
-  /// a teat spacing, so a missed teat weighs like one placed on its neighbour.
+  /// What a teat reported visible by some runs and not by others adds to its spread, mm (> 0), times the
+  /// share of runs that miss it: about a teat spacing, so a missed teat weighs like one placed on its
+  /// neighbour.
   double miss_mm = 50.0;
   /// Radius of the accuracy figures of the results table, mm (as tracker::evaluate_accuracy).
   double within_mm = 10.0;
@@ -41,8 +42,9 @@ struct RunSeries {
 /// One frame where the runs disagree.
 struct Disagreement {
   std::size_t frame = 0;  ///< frame index in the video
-  /// Mean over the four teats of the largest distance between two runs' estimates of the teat among the
-  /// runs that report it visible (mm), a teat seen by some and not all runs counting CompareOptions::miss_mm.
+  /// Mean over the four teats of the teat's spread, mm: the largest distance between two runs' estimates
+  /// among the runs that report it visible, plus CompareOptions::miss_mm × the share of runs that miss it
+  /// when some runs report it and others do not.
   double score_mm = 0;
   std::vector<int> states;  ///< each run's state in this frame
   int worst_teat = 0;       ///< the teat that contributes most (kTeatNames order)
