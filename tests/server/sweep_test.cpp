@@ -81,6 +81,37 @@ TEST_F(SweepTest, GridOverTwoVideosStoresEveryRun) {
   EXPECT_EQ(body(get("/api/v1/sweeps/s1"))["runs"].size(), 12u);
 }
 
+TEST_F(SweepTest, AFrameRangeMakesShortRuns) {
+  const std::string v = upload_video(12);
+  const Response r = send("POST", "/api/v1/sweeps",
+                          nlohmann::json{{"videos", {v}},
+                                         {"sweep", {{"mode", "random"}, {"samples", 2}, {"axes", {{{"param", "ncc_min"}}}}}},
+                                         {"first_frame", 3},
+                                         {"frame_count", 5}}
+                              .dump());
+  ASSERT_EQ(r.status, 202) << r.body;
+  EXPECT_EQ(body(r)["sweep"]["frames"], nlohmann::json({{"first_frame", 3}, {"frame_count", 5}}));
+  ASSERT_EQ(app->jobs.wait(body(r)["job"]["id"]).state, "done");
+  for (const auto& id : body(get("/api/v1/sweeps/s1"))["runs"]) {
+    EXPECT_EQ(body(get("/api/v1/runs/" + id.get<std::string>()))["summary"]["frames"], 5);
+    const auto frames = body(get("/api/v1/runs/" + id.get<std::string>() + "/frames"));
+    EXPECT_EQ(frames["frames"][0]["index"], 3) << frames.dump().substr(0, 300);
+  }
+  const auto bad = [&](const nlohmann::json& range) {
+    nlohmann::json b = {{"videos", {v}}, {"sweep", grid6()}};
+    b.update(range);
+    return send("POST", "/api/v1/sweeps", b.dump());
+  };
+  expect_detail(bad({{"first_frame", 12}}), 400, "invalid_argument", "first_frame",
+                "first_frame: 12 is not a frame of video '" + v + "' (it has 12)");
+  expect_detail(bad({{"first_frame", 10}, {"frame_count", 5}}), 400, "invalid_argument", "frame_count",
+                "frame_count: 5 frames from frame 10 run past video '" + v + "' (12 frames)");
+  expect_detail(bad({{"frame_count", -1}}), 400, "invalid_argument", "frame_count",
+                "frame_count: must be ≥ 0 (0 = to the end)");
+  expect_detail(bad({{"first_frame", 1.5}}), 400, "invalid_argument", "first_frame",
+                "first_frame: must be an integer");
+}
+
 TEST_F(SweepTest, CancelStopsTheSweep) {
   const std::string v = upload_video(40);
   const Response r = sweep({v}, {{"mode", "random"}, {"samples", 200}, {"axes", {{{"param", "ncc_min"}}}}});

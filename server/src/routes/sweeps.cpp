@@ -44,7 +44,12 @@ Response get_sweep(App& app, const Request& req, const PathParams& p) {
 Response create_sweep(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {});
   SweepStore& sweeps = sweep_store(app);
-  const nlohmann::json j = parse_body_object(req.body, {"videos", "sweep"});
+  const nlohmann::json j = parse_body_object(req.body, {"videos", "sweep", "first_frame", "frame_count"});
+  // The frame range tracked in every video (a short range makes a quick sweep); checked against each video
+  // now, so that the job does not fail at its first run.
+  const std::int64_t first = integer_field(j, "first_frame", 0), count = integer_field(j, "frame_count", 0);
+  if (first < 0) throw invalid_argument("first_frame", "first_frame: must be ≥ 0");
+  if (count < 0) throw invalid_argument("frame_count", "frame_count: must be ≥ 0 (0 = to the end)");
   const auto v = j.find("videos");
   if (v == j.end() || !v->is_array() || v->empty())
     throw invalid_argument("videos", "videos: must be a non-empty array of video ids");
@@ -54,6 +59,14 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
     if (!id.is_string()) throw invalid_argument("videos", "videos: must be a non-empty array of video ids");
     videos.push_back(id.get<std::string>());
     packs.push_back(app.videos->pack_path(videos.back()));  // 404 "video"
+    const auto frames = app.videos->meta(videos.back()).at("frame_count").get<std::int64_t>();
+    if (first >= frames)
+      throw invalid_argument("first_frame", "first_frame: " + std::to_string(first) + " is not a frame of video '" +
+                                                videos.back() + "' (it has " + std::to_string(frames) + ")");
+    if (first + count > frames)
+      throw invalid_argument("frame_count", "frame_count: " + std::to_string(count) + " frames from frame " +
+                                                std::to_string(first) + " run past video '" + videos.back() +
+                                                "' (" + std::to_string(frames) + " frames)");
   }
   if (!j.contains("sweep")) throw invalid_argument("sweep", "sweep: required");
   const tracker::SweepSpec spec = tracker::parse_sweep(j["sweep"]);
@@ -65,12 +78,14 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
                     " videos = " + std::to_string(total) + " runs, more than the limit of " +
                     std::to_string(limits::kMaxSweepRuns) + " (kMaxSweepRuns)");
   app.runs->check_room(total);
-  const std::string id = sweeps.create(tracker::to_json(spec), *v, total);
+  const std::string id =
+      sweeps.create(tracker::to_json(spec), *v, {{"first_frame", first}, {"frame_count", count}}, total);
   const auto runs = app.runs;
   const auto store = app.sweeps;
   const JobState job = app.jobs.submit(
       "sweep", id,
-      [runs, store, id, videos, packs, points, total](const ProgressFn& progress, const CancelToken& cancel) {
+      [runs, store, id, videos, packs, points, total, first, count](const ProgressFn& progress,
+                                                                    const CancelToken& cancel) {
         std::size_t done = 0;
         try {
           for (const auto& params : points)
@@ -78,6 +93,8 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
               cancel.throw_if_cancelled();
               tracker::RunOptions ro;
               ro.video_id = videos[k];
+              ro.first_frame = static_cast<std::size_t>(first);
+              ro.frame_count = static_cast<std::size_t>(count);
               const ProgressFn report = [&](double f, std::string_view) {
                 cancel.throw_if_cancelled();  // run_tracker stops at the throw; that run is not stored
                 progress((static_cast<double>(done) + f) / static_cast<double>(total), "sweep");

@@ -45,13 +45,15 @@ void SweepStore::save_locked(const nlohmann::json& record) const {
   write_file_atomic(root_ / "sweeps" / (record.at("id").get<std::string>() + ".json"), json_text(record));
 }
 
-std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, std::size_t total) {
+std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, nlohmann::json frames,
+                               std::size_t total) {
   std::lock_guard lock(mu_);
   const std::uint64_t n = next_++;
   const std::string id = store_id('s', n);
   nlohmann::json record = {{"id", id},
                            {"spec", std::move(spec)},
                            {"videos", std::move(videos)},
+                           {"frames", std::move(frames)},
                            {"total", total},
                            {"runs", nlohmann::json::array()},
                            {"state", "running"},

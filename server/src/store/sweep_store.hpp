@@ -19,9 +19,10 @@ class SweepStore {
   /// skipped; one that was running when the server stopped is marked "interrupted".
   explicit SweepStore(std::filesystem::path root);
 
-  /// A new sweep: {id ("s1", ...), spec, videos, total (runs to make), runs: [], state: "running", done:
-  /// false, job, created}. Returns its id.
-  std::string create(nlohmann::json spec, nlohmann::json videos, std::size_t total);
+  /// A new sweep: {id ("s1", ...), spec, videos, frames ({first_frame, frame_count}: the range of each video
+  /// tracked, frame_count 0 = to the end), total (runs to make), runs: [], state: "running", done: false,
+  /// job, created}. Returns its id.
+  std::string create(nlohmann::json spec, nlohmann::json videos, nlohmann::json frames, std::size_t total);
   /// Sets the job that makes the sweep's runs.
   void set_job(const std::string& id, const std::string& job);
   /// Appends a stored run's id.
