@@ -446,6 +446,7 @@ void projection_warm_up() {
     throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of the projections failed: " + why);
   try {
     (void)program("projection_tsne");
+    (void)program("projection_tsne_fft");
     (void)program("projection_tsne", "-DSTACK=" + std::to_string(projection::detail::QuadTree::kStack));
   } catch (const cl::Error& e) {
     throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of the projections failed: " + describe(e));

@@ -106,6 +106,9 @@ void bh_repulse(const QuadTree& t, std::int32_t i, double yx, double yy, double 
 void tsne_optimize(std::vector<double>& y, std::size_t n, const TsneOptions& o,
                    const std::function<void(const std::vector<double>&, double, std::vector<double>&)>& grad);
 
+/// The attraction Σ_j p_ij·w_ij·(y_i − y_j) of every point (rows × 2), in double.
+void tsne_attraction(const Affinities& P, const std::vector<double>& y, std::vector<double>& attr);
+
 /// max(N/12, 200) unless set.
 double tsne_learning_rate(std::size_t n, const TsneOptions& o);
 

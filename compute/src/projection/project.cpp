@@ -63,7 +63,7 @@ Embedding project(const Table& table, const ProjectOptions& o) {
     case Method::tsne: {
       TsneOptions to;
       to.perplexity = o.perplexity;
-      to.iterations = o.iterations ? o.iterations : 750;
+      to.iterations = o.iterations ? o.iterations : TsneOptions{}.iterations;
       to.exaggeration_iterations = o.exaggeration_iterations;
       to.exaggeration = o.exaggeration;
       to.learning_rate = o.learning_rate;

@@ -42,7 +42,7 @@ void add_project(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option(
          "--iterations", o->iterations,
-         "t-SNE iterations after the 250 of early exaggeration (default 750); Force Scheme iterations "
+         "t-SNE iterations after the 250 of early exaggeration (default 500); Force Scheme iterations "
          "(default 100); 0 = default")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "seed of every random choice")->capture_default_str();

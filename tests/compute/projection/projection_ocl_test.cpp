@@ -84,23 +84,56 @@ TEST_F(ProjectionOcl, TsneGradientMatchesReference) {
   }
 }
 
+TEST_F(ProjectionOcl, TsneFftRepulsionMatchesReference) {
+  // Same grid, same interpolation: the device's float spread/gather and the host's float FFT against
+  // the double reference. Float rounding of coordinates ~30 and of sums of ~400 terms: 1e-4 relative.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0, 6);
+  std::vector<double> y(2 * 1200);
+  for (double& v : y) v = g(rng);
+  for (int p : {3, 5}) {
+    TsneFftOptions f;
+    f.nodes_per_box = p;
+    const std::vector<double> o = tsne_repulsion_fft(y, f, Backend::opencl), r = tsne_repulsion_fft_ref(y, f);
+    EXPECT_LT(test::rel_diff(o, r), 1e-4) << "p " << p;
+  }
+}
+
+TEST_F(ProjectionOcl, TsneFftGradientMatchesReference) {
+  const Table t = test::gaussian_clusters(900, 16, 5, 6.0, 12);
+  const Affinities p = tsne_affinities(knn_ref(t, 60), 20.0);
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g(0, 4);
+  std::vector<double> y(2 * t.rows);
+  for (double& v : y) v = g(rng);
+  for (double ex : {1.0, 12.0}) {
+    const std::vector<double> o = tsne_gradient_fft(p, y, ex, TsneFftOptions{}, Backend::opencl);
+    const std::vector<double> r = tsne_gradient_fft_ref(p, y, ex, TsneFftOptions{});
+    EXPECT_LT(test::rel_diff(o, r), 1e-3) << "exaggeration " << ex;
+  }
+}
+
 TEST_F(ProjectionOcl, TsneMatchesReferenceQuality) {
   // The optimisation is chaotic: float and double trajectories part after a few hundred steps, so the
   // two runs are compared by what they must share, the quality of the result, not coordinates.
   std::vector<int> labels;
   const Table t = test::gaussian_clusters(1000, 20, 6, 10.0, 9, &labels);
-  TsneOptions to;
-  to.perplexity = 20;
-  to.iterations = 300;
-  const Embedding o = tsne(t, to, Backend::opencl), r = tsne_ref(t, to);
-  EXPECT_EQ(o.path, "opencl");
-  EXPECT_EQ(o.variant, "barnes-hut");
-  QualityOptions qo;
-  qo.backend = Backend::cpu;
-  const double to_ = quality_ref(t, o.xy, qo).trustworthiness, tr = quality_ref(t, r.xy, qo).trustworthiness;
-  EXPECT_GT(to_, 0.9);
-  EXPECT_NEAR(to_, tr, 0.01);
-  EXPECT_EQ(tsne(t, to, Backend::opencl).xy, o.xy);  // deterministic on the device too
+  for (TsneRepulsion rep : {TsneRepulsion::automatic, TsneRepulsion::barnes_hut}) {
+    TsneOptions to;
+    to.perplexity = 20;
+    to.iterations = 300;
+    to.repulsion = rep;
+    const Embedding o = tsne(t, to, Backend::opencl), r = tsne_ref(t, to);
+    EXPECT_EQ(o.path, "opencl");
+    EXPECT_EQ(o.variant, rep == TsneRepulsion::automatic ? "fft" : "barnes-hut");
+    QualityOptions qo;
+    qo.backend = Backend::cpu;
+    const double to_ = quality_ref(t, o.xy, qo).trustworthiness,
+                 tr = quality_ref(t, r.xy, qo).trustworthiness;
+    EXPECT_GT(to_, 0.9) << o.variant;
+    EXPECT_NEAR(to_, tr, 0.01) << o.variant;
+    EXPECT_EQ(tsne(t, to, Backend::opencl).xy, o.xy) << o.variant;  // deterministic on the device too
+  }
 }
 
 TEST_F(ProjectionOcl, ForceSchemeMatchesReference) {

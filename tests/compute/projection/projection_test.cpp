@@ -209,12 +209,12 @@ double neighbourhood_hit(const std::vector<double>& xy, const std::vector<int>& 
 
 TEST(ProjectionTsne, SeparatesClustersAndIsDeterministic) {
   std::vector<int> labels;
-  const Table t = test::gaussian_clusters(700, 20, 5, 12.0, 31, &labels);  // Barnes-Hut (N > 500)
+  const Table t = test::gaussian_clusters(700, 20, 5, 12.0, 31, &labels);  // FFT (N > 500)
   TsneOptions o;
   o.perplexity = 20;
   o.iterations = 400;
   const Embedding a = tsne_ref(t, o);
-  EXPECT_EQ(a.variant, "barnes-hut");
+  EXPECT_EQ(a.variant, "fft");
   EXPECT_GT(neighbourhood_hit(a.xy, labels, 10), 0.98);
   QualityOptions qo;
   qo.backend = Backend::cpu;
