@@ -8,6 +8,8 @@
 //  - brushing a region of good points and one of bad points selects those runs in the table and opens
 //    their comparison (one timeline lane per compared run), Shift-brush adds;
 //  - clicking a ranked disagreement moves the shared frame cursor of every lane there;
+//  - a lane's "open" shows that stored run in the tracker view at the cursor frame (pictures, overlays,
+//    state timeline), and stepping there moves the frame;
 //  - table selection (click, shift-click), parallel-coordinate brushing and the importance bars.
 // Screenshots go to tests/e2e/artifacts/runs-*.png.
 
@@ -515,6 +517,70 @@ await test('▶ on a lane replays that run in the tracker view (its video, its p
     const want = run.params[run.param_names.indexOf(name)];
     assert(Math.abs(r.params[name] - want) < 1e-9, `${name}: replay ${r.params[name]}, run ${want}`);
   }
+  await page.goBack();
+  await page.waitForFunction(() => document.getElementById('app')?.dataset.view === 'runs');
+});
+
+await test('"open" on a lane shows the stored run in the tracker view at the cursor frame; stepping moves it', async () => {
+  // The worst disagreement's frame under the cursor, then the stored run of the first lane there.
+  await page.locator(sel('disagreement')).first().click();
+  const s = await state();
+  const frame = s.cursor;
+  const id = s.lanes[0];
+  assert(id && Number.isInteger(frame), `a comparison with a cursor (${id}, ${frame})`);
+  const link = page.locator(sel(`lane-open-${id}`));
+  assertEqual(await link.getAttribute('href'), `#tracker?run=${encodeURIComponent(id)}&frame=${frame}`, 'the open link follows the cursor');
+  const replaysBefore = (await api('GET', '/api/v1/replays')).replays?.length ?? 0;
+  await link.click();
+  await page.waitForFunction(() => document.getElementById('app')?.dataset.view === 'tracker');
+  await page.waitForFunction((r) => {
+    const t = document.querySelector('[data-testid="tracker"]');
+    return t?.dataset.run === r && t.dataset.state === 'ready' && t.dataset.complete === 'true';
+  }, id);
+  const shows = (f) =>
+    page.waitForFunction(
+      (f) =>
+        Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) === f &&
+        Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f &&
+        document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true' &&
+        Number(document.querySelector('[data-testid="frame-data"]')?.dataset.frame) === f &&
+        document.querySelector('[data-testid="frame-data-index"]')?.textContent?.trim() === String(f),
+      f,
+    );
+  await shows(frame);
+  const counter = await page.textContent(sel('replay-frame'));
+  assert(new RegExp(`frame ${frame} /`).test(counter), `the counter reads "${counter}"`);
+  assertEqual(await page.textContent(sel('run-id')), id, 'the setup panel names the run');
+  const d = await page.$eval(sel('replay-images'), (el) => ({ ...el.dataset }));
+  const overlays = Number(d.candidates) + Number(d.estimates) + Number(d.truthTips);
+  assert(overlays > 0, `overlays are drawn (candidates ${d.candidates}, estimates ${d.estimates}, truth ${d.truthTips})`);
+  assert(Number(d.truthTips) + Number(d.truthBoxes) > 0, `the ground truth is drawn (${d.truthTips} tips, ${d.truthBoxes} boxes)`);
+  const run = st.runs.get(id);
+  await page.waitForFunction((n) => Number(document.querySelector('[data-testid="state-timeline"]')?.dataset.known) === n, run.summary.frames);
+  assertEqual(Number(await page.getAttribute(sel('state-timeline'), 'data-cursor')), frame, 'the state timeline cursor');
+  assertEqual(Number(await page.getAttribute(sel('trajectory-z'), 'data-cursor')), frame, 'the trajectory cursor');
+  assert(Number(await page.getAttribute(sel('trajectories'), 'data-points')) > 0, 'the trajectories hold estimates');
+  const replaysAfter = (await api('GET', '/api/v1/replays')).replays?.length ?? 0;
+  assertEqual(replaysAfter, replaysBefore, 'no replay was started (the stored run is shown)');
+  await page.mouse.move(5, 5);
+  await page.screenshot({ path: path.join(ARTIFACTS, 'runs-open-stored-run.png') });
+  // Step one frame (the last frame steps back instead).
+  const frames = Number(await page.getAttribute(sel('replay-seek'), 'max')) + 1;
+  const next = frame + 1 < frames ? frame + 1 : frame - 1;
+  await page.click(sel(next > frame ? 'replay-step' : 'replay-step-back'));
+  await shows(next);
+  assertEqual(Number(await page.getAttribute(sel('state-timeline'), 'data-cursor')), next, 'the timeline follows the step');
+  await page.waitForFunction((f) => location.hash.includes(`frame=${f}`), next); // the URL keeps the frame
+  // Play advances the cursor locally, pause stops it.
+  await page.click(sel('replay-play'));
+  await page.waitForFunction(() => document.querySelector('[data-testid="replay-controls"]')?.dataset.playing === 'true');
+  const atPlay = Number(await page.getAttribute(sel('replay-frame'), 'data-frame'));
+  await page.waitForFunction(
+    (f) => Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) !== f || document.querySelector('[data-testid="replay-controls"]')?.dataset.playing === 'false',
+    atPlay,
+  );
+  await page.click(sel('replay-play'));
+  console.log(`        run ${id} at frame ${frame}: ${d.candidates} candidates, ${d.estimates} estimates, ${d.truthTips} truth tips; stepped to ${next}`);
   await page.goBack();
   await page.waitForFunction(() => document.getElementById('app')?.dataset.view === 'runs');
 });

@@ -1,7 +1,8 @@
 // Browser test of the tracker dashboard (run through run.sh, which starts the server with --demo so that
 // the two synthetic demo videos exist). Two viewers watch one replay of the cups-attached video: one
 // plays, the other seeks by clicking the state timeline; both show pictures with overlays, and the
-// timeline of the whole video holds tracking (blue) and lost (red) frames.
+// timeline of the whole video holds tracking (blue) and lost (red) frames. Then the replay's stored run
+// opens from #tracker?run=ID&frame=N (no WebSocket): every view at frame N, local step, seek and play.
 
 import { chromium } from 'playwright-core';
 import { mkdir } from 'node:fs/promises';
@@ -267,6 +268,71 @@ await test('the Flights tab still shows the map dashboard', async () => {
   assert(!(await b.isVisible(sel('tracker'))), 'the tracker is hidden');
   await b.goBack();
   await b.waitForFunction(() => document.getElementById('app')?.dataset.view === 'tracker');
+});
+
+await test("#tracker?run=RUN&frame=N opens the replay's stored run at frame N: every view, local stepping and play, no WebSocket", async () => {
+  await b.bringToFront();
+  const r = await (await fetch(`${BASE_URL}/api/v1/replays/${encodeURIComponent(st.replay)}`)).json();
+  assert(r.run, `the replay's run is stored (${r.run})`);
+  const frame = Math.floor(st.frames * 0.4);
+  const sockets = [];
+  const onSocket = (ws) => sockets.push(ws.url());
+  b.on('websocket', onSocket);
+  await b.evaluate(([run, f]) => (location.hash = `#tracker?run=${encodeURIComponent(run)}&frame=${f}`), [r.run, frame]);
+  await b.waitForFunction((run) => {
+    const t = document.querySelector('[data-testid="tracker"]');
+    return t?.dataset.run === run && t.dataset.state === 'ready' && t.dataset.complete === 'true';
+  }, r.run);
+  const shows = (f) =>
+    b.waitForFunction(
+      (f) =>
+        Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) === f &&
+        Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f &&
+        document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true' &&
+        Number(document.querySelector('[data-testid="frame-data"]')?.dataset.frame) === f &&
+        Number(document.querySelector('[data-testid="state-timeline"]')?.dataset.cursor) === f &&
+        Number(document.querySelector('[data-testid="trajectory-z"]')?.dataset.cursor) === f,
+      f,
+    );
+  await shows(frame);
+  await b.waitForFunction((n) => Number(document.querySelector('[data-testid="state-timeline"]')?.dataset.known) === n, st.frames);
+  assert(new RegExp(`frame ${frame} /`).test(await b.textContent(sel('replay-frame'))), 'the counter shows the frame');
+  assertEqual(await b.getAttribute(sel('tracker'), 'data-replay'), null, 'no replay is attached');
+  const d = await b.$eval(sel('replay-images'), (el) => ({ ...el.dataset }));
+  assert(Number(d.candidates) + Number(d.estimates) + Number(d.truthTips) > 0, `overlays are drawn (${d.candidates} candidates, ${d.estimates} estimates, ${d.truthTips} truth tips)`);
+  const s = await canvasStats(b, 'replay-depth');
+  assertEqual(s.w, st.video.intrinsics.width * 3, 'the depth canvas is the video ×3 wide');
+  assert(s.colours > 20, `the depth canvas holds an image (${s.colours} colours)`);
+  // Step with the button and the keyboard, seek with the timeline.
+  await b.click(sel('replay-step'));
+  await shows(frame + 1);
+  await b.keyboard.press('ArrowRight');
+  await shows(frame + 2);
+  await b.keyboard.press('ArrowLeft');
+  await shows(frame + 1);
+  await b.waitForFunction((f) => location.hash.endsWith(`frame=${f}`), frame + 1);
+  const box = await b.locator(sel('state-timeline')).boundingBox();
+  const target = Math.floor(st.frames * 0.75);
+  await b.mouse.click(box.x + frameX(target, box.width), box.y + box.height / 2);
+  await shows(target);
+  // Play advances the local cursor at the video's fps; pause holds it.
+  await b.click(sel('replay-play'));
+  await b.waitForFunction((f) => Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) >= f + 5, target);
+  await b.click(sel('replay-play'));
+  await b.waitForFunction(() => document.querySelector('[data-testid="replay-controls"]')?.dataset.playing === 'false');
+  const held = await num(b, sel('replay-frame'), 'data-frame');
+  await shows(held);
+  await b.mouse.move(5, 5);
+  await b.screenshot({ path: path.join(ARTIFACTS, 'tracker-stored-run.png') });
+  b.off('websocket', onSocket);
+  assertEqual(sockets.length, 0, 'the stored run opened no WebSocket');
+  console.log(`        run ${r.run}: frame ${frame} → ${frame + 1} → ${frame + 2} → ${frame + 1}, seek ${target}, played to ${held}`);
+  // Back to the live replay: it reconnects as before.
+  await b.goBack();
+  await b.waitForFunction((id) => {
+    const t = document.querySelector('[data-testid="tracker"]');
+    return t?.dataset.replay === id && t.dataset.state === 'ready' && !t.dataset.run;
+  }, st.replay);
 });
 
 await test('the parameter form: a bad value is refused in place, a good one starts a replay with it', async () => {

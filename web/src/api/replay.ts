@@ -1,7 +1,8 @@
 // The tracker API: videos, parameters, replays and stored runs (REST), and one replay WebSocket viewer.
 
 import { ApiError, errorFromResponse, isAbort } from './client';
-import { decodeRunFrames, type FrameRecord, type FrameTruth } from './trackerLog';
+import type { RunRow } from './runsTypes';
+import { decodeRunFrames, decodeTruth, toNumber, type FrameRecord, type FrameTruth } from './trackerLog';
 import type { PlayerState, Replay, ReplayOp, TrackerParam, Video } from './trackerTypes';
 import { parseFrameMessage, type FrameMessage } from './tsrf';
 
@@ -81,7 +82,63 @@ export const trackerApi = {
     const q = new URLSearchParams({ from: String(from), to: String(to) });
     return decodeRunFrames(await request<unknown>(`/api/v1/runs/${enc(run)}/frames?${q.toString()}`, { signal }), from);
   },
+
+  /** One page [from, to) of a stored run's frames with its envelope (log positions, not video indices); `to` null: the server's default page. */
+  async runFramesPage(run: string, from: number, to: number | null, signal?: AbortSignal): Promise<RunFramesPage> {
+    const q = new URLSearchParams({ from: String(from) });
+    if (to !== null) q.set('to', String(to));
+    return decodeRunFramesPage(await request<unknown>(`/api/v1/runs/${enc(run)}/frames?${q.toString()}`, { signal }), from);
+  },
+
+  /** A stored run's row (GET /api/v1/runs/{run}: the list row plus its log header). */
+  run: (id: string, signal?: AbortSignal) => request<RunRow & { header?: Record<string, unknown> }>(`/api/v1/runs/${enc(id)}`, { signal }),
+
+  video: (id: string, signal?: AbortSignal) => request<Video>(`/api/v1/videos/${enc(id)}`, { signal }),
+
+  /** The ground truth of one video frame (null when the video has none). */
+  async videoFrameTruth(video: string, index: number, signal?: AbortSignal): Promise<FrameTruth | null> {
+    const body = await request<{ truth?: unknown }>(`/api/v1/videos/${enc(video)}/frames/${index}`, { signal });
+    return decodeTruth(body?.truth);
+  },
+
+  /** A video frame's picture: depth (in `colormap`, the frame's own depth range) or amplitude, as PNG bytes. */
+  async framePng(video: string, index: number, kind: 'depth' | 'amplitude', colormap?: string, signal?: AbortSignal): Promise<Uint8Array> {
+    const q = kind === 'depth' && colormap ? `?${new URLSearchParams({ colormap }).toString()}` : '';
+    let res: Response;
+    try {
+      res = await fetch(`/api/v1/videos/${enc(video)}/frames/${index}/${kind}.png${q}`, { signal });
+    } catch (e) {
+      if (isAbort(e)) throw e;
+      throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
+    }
+    if (!res.ok) throw await errorFromResponse(res);
+    return new Uint8Array(await res.arrayBuffer());
+  },
 };
+
+/** A decoded page of GET /api/v1/runs/{run}/frames. */
+export interface RunFramesPage {
+  /** Log positions [from, to) of the page, and the run's frame count. */
+  from: number;
+  to: number;
+  total: number;
+  items: { frame: FrameRecord; truth: FrameTruth | null }[];
+  /** False when the run stores no ground truth ("truth": null). */
+  hasTruth: boolean;
+}
+
+export function decodeRunFramesPage(raw: unknown, from: number): RunFramesPage {
+  const body = raw && typeof raw === 'object' && !Array.isArray(raw) ? (raw as Record<string, unknown>) : {};
+  const items = decodeRunFrames(raw, from);
+  const f = toNumber(body.from, from);
+  return {
+    from: f,
+    to: toNumber(body.to, f + items.length),
+    total: toNumber(body.total, NaN),
+    items,
+    hasTruth: Array.isArray(body.truth),
+  };
+}
 
 export interface HelloMessage {
   replay: Partial<Replay>;

@@ -1,7 +1,8 @@
 // The comparison of 2..8 runs of one video (POST /api/v1/compare):
 //  - aligned timelines, one lane per run: state strip (TRACK blue, LOST red, SEARCH grey), largest 3D
 //    error (red marks = a visible teat not reported), matches and model cost, with one frame cursor shared
-//    by every lane (click or drag anywhere sets it);
+//    by every lane (click or drag anywhere sets it); each lane's "open" shows the stored run in the
+//    tracker view at the cursor frame (#tracker?run=ID&frame=N), its ▶ starts a fresh live replay;
 //  - small multiples: the error of each teat per run, on one scale;
 //  - the frames where the runs disagree most, ranked (click → cursor there);
 //  - the parameters that differ beside the results, the best result of each row marked.
@@ -11,6 +12,7 @@ import { h, mount } from '../lib/dom';
 import { AxisSurface } from '../tracker/axisSurface';
 import { frameLeft, tickStep, xOfFrame } from '../tracker/frameAxis';
 import { STATE_COLORS, TEAT_COLORS, UNKNOWN_COLOR } from '../tracker/palette';
+import { trackerRunHash } from '../tracker/route';
 import { bestIndex, formatMetric, formatNumber, formatParam, metricDef } from './metrics';
 
 const TEATS = ['FL', 'FR', 'RL', 'RR'] as const;
@@ -185,8 +187,20 @@ export class CompareView {
       ...this.lanes.map((l, k) => {
         const run = cmp.runs[k];
         const sum = run?.summary;
+        // "open": the stored run in the tracker view at the cursor frame (href follows the cursor);
+        // ▶: a fresh live replay of the run's video at its parameters.
+        const open = h(
+          'a',
+          {
+            class: 'btn small lane-open',
+            href: trackerRunHash(l.series.id, this.cursor),
+            'data-testid': `lane-open-${l.series.id}`,
+            title: `Open stored run ${l.series.id} in the tracker view at the cursor frame`,
+          },
+          'open',
+        );
         const replay = this.opts.onReplay
-          ? h('button', { class: 'icon-button lane-replay', type: 'button', title: `Replay run ${l.series.id} in the tracker view`, 'aria-label': `Replay run ${l.series.id} in the tracker`, onclick: () => this.opts.onReplay?.(l.series.id) }, '▶')
+          ? h('button', { class: 'icon-button lane-replay', type: 'button', title: `Replay run ${l.series.id} in the tracker view (a fresh live replay)`, 'aria-label': `Replay run ${l.series.id} in the tracker`, onclick: () => this.opts.onReplay?.(l.series.id) }, '▶')
           : null;
         return h(
           'div',
@@ -197,6 +211,7 @@ export class CompareView {
             h('span', { class: 'swatch', style: `background:${this.colors.get(l.series.id) ?? 'transparent'}` }),
             h('span', { class: 'lane-id mono' }, l.series.id),
             sum ? h('span', { class: 'muted small' }, `${formatMetric('track_share', sum.track_share)} track`) : null,
+            open,
             replay,
           ),
           l.surface.root,
@@ -249,6 +264,11 @@ export class CompareView {
     for (const l of this.lanes) l.surface.setCursor(f - cmp.firstFrame);
     for (const m of this.multiples) m.setCursor(f - cmp.firstFrame);
     for (const row of this.disagreeEl.querySelectorAll<HTMLElement>('[data-frame]')) row.classList.toggle('current', Number(row.dataset.frame) === f);
+    for (const a of this.lanesEl.querySelectorAll<HTMLAnchorElement>('a.lane-open')) {
+      const run = a.closest<HTMLElement>('.lane')?.dataset.run;
+      if (run) a.href = trackerRunHash(run, f);
+      a.dataset.frame = String(f);
+    }
   }
 
   private seek(frame: number) {

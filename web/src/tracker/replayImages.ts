@@ -3,10 +3,10 @@
 // and drawn (one decode in flight at a time).
 
 import type { FrameRecord, FrameTruth } from '../api/trackerLog';
-import type { FrameMessage } from '../api/tsrf';
 import { h } from '../lib/dom';
 import { drawOverlays, type OverlayCounts, type OverlayOptions } from './overlays';
 import { CANDIDATE_REJECTED, CANDIDATE_VERIFIED, TEAT_COLORS } from './palette';
+import type { ShownFrame } from './storedRun';
 
 export const SCALE = 3;
 
@@ -20,7 +20,7 @@ export class ReplayImages {
   private readonly panes: Pane[];
   private width = 0;
   private height = 0;
-  private pending: FrameMessage | null = null;
+  private pending: ShownFrame | null = null;
   private decoding = false;
   private record: FrameRecord | null = null;
   private truth: FrameTruth | null = null;
@@ -88,8 +88,8 @@ export class ReplayImages {
     this.setSize(width, height);
   }
 
-  /** Queues a frame from the socket; the newest queued frame wins. */
-  show(msg: FrameMessage): void {
+  /** Queues a frame (from the socket, or a stored run's pictures); the newest queued frame wins. */
+  show(msg: ShownFrame): void {
     this.pending = msg;
     if (!this.decoding) void this.pump();
   }

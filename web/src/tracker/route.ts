@@ -14,3 +14,29 @@ export function trackerHashParams(hash: string): URLSearchParams {
 export function trackerHash(replay: string | null): string {
   return replay ? `#tracker?replay=${encodeURIComponent(replay)}` : '#tracker';
 }
+
+/** "#tracker?run=ID&frame=N": a stored run opened at video frame N. */
+export function trackerRunHash(run: string, frame?: number | null): string {
+  const q = new URLSearchParams({ run });
+  if (frame !== undefined && frame !== null && Number.isInteger(frame) && frame >= 0) q.set('frame', String(frame));
+  return `#tracker?${q.toString()}`;
+}
+
+export interface TrackerRoute {
+  replay: string | null;
+  run: string | null;
+  /** The video frame to show (a non-negative integer), or null when absent or malformed. */
+  frame: number | null;
+  video: string | null;
+}
+
+export function parseTrackerRoute(hash: string): TrackerRoute {
+  const q = trackerHashParams(hash);
+  const str = (k: string) => {
+    const v = q.get(k);
+    return v && v.trim() ? v.trim() : null;
+  };
+  const f = str('frame');
+  const frame = f !== null && /^\d+$/.test(f) ? Number(f) : null;
+  return { replay: str('replay'), run: str('run'), frame: frame !== null && Number.isSafeInteger(frame) ? frame : null, video: str('video') };
+}

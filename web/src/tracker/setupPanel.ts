@@ -133,6 +133,16 @@ export class SetupPanel {
     mount(this.replayInfo, 'replay ', h('code', { 'data-testid': 'replay-id' }, id), ' · ', link, detail ? ` · ${detail}` : '');
   }
 
+  /** Shows the stored run on view (instead of a replay). */
+  setRun(id: string, detail = ''): void {
+    mount(this.replayInfo, 'stored run ', h('code', { 'data-testid': 'run-id' }, id), detail ? ` · ${detail}` : '');
+  }
+
+  /** The depth colour map picked. */
+  get colormapValue(): string {
+    return this.colormap.value;
+  }
+
   private showVideoInfo() {
     const v = this.videos.find((x) => x.id === this.videoSelect.value);
     this.videoInfo.textContent = v

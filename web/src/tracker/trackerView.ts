@@ -1,7 +1,10 @@
-// The tracker dashboard: wiring between the replay API, the viewer socket and the linked views.
-// The server owns this viewer's cursor; every view seeks through it ({"op":"seek"}), and every frame
-// the server shows moves the cursor of every view. The frame-axis views cover the whole video: frames
-// seen over the socket are kept, and once the replay's run is stored its records are fetched.
+// The tracker dashboard: wiring between a frame source and the linked views. Two sources:
+//  - a live replay ("#tracker?replay=ID"): the server owns this viewer's cursor; every view seeks through
+//    the WebSocket ({"op":"seek"}), and every frame the server shows moves the cursor of every view. The
+//    frame-axis views cover the whole video: frames seen over the socket are kept, and once the replay's
+//    run is stored its records are fetched;
+//  - a stored run ("#tracker?run=ID&frame=N", storedRun.ts): the cursor is local, the run's records are
+//    fetched in pages and the pictures of the cursor frame from the video; no WebSocket.
 
 import { ApiError, isAbort } from '../api/client';
 import { ReplaySocket, trackerApi } from '../api/replay';
@@ -11,10 +14,11 @@ import { h } from '../lib/dom';
 import { FrameData } from './frameData';
 import { FrameStore } from './frameStore';
 import { PlayerControls } from './playerControls';
-import { trackerHash, trackerHashParams } from './route';
+import { parseTrackerRoute, trackerHash, trackerRunHash } from './route';
 import { ReplayImages } from './replayImages';
 import { SetupPanel } from './setupPanel';
 import { StateTimeline } from './stateTimeline';
+import { StoredRunSource, type ShownFrame } from './storedRun';
 import { Trajectories } from './trajectories';
 import './tracker.css';
 
@@ -35,6 +39,8 @@ export class TrackerView {
   /** The replay this tab started (released when it starts another and nobody else watches). */
   private own: string | null = null;
   private socket: ReplaySocket | null = null;
+  /** The stored run shown instead of a replay (null in replay mode). */
+  private stored: StoredRunSource | null = null;
   private store: FrameStore | null = null;
   private state: PlayerState = { playing: false, frame: 0, speed: 1 };
   private current = 0;
@@ -66,7 +72,7 @@ export class TrackerView {
     host.append(this.root);
     // Transport keys anywhere in the shown tracker view, except while typing (and Space on a button).
     window.addEventListener('keydown', (e) => {
-      if (!this.replay || this.root.offsetParent === null || e.ctrlKey || e.metaKey || e.altKey) return;
+      if ((!this.replay && !this.stored) || this.root.offsetParent === null || e.ctrlKey || e.metaKey || e.altKey) return;
       const t = e.target as HTMLElement;
       if (t.closest?.('input, select, textarea, [contenteditable]')) return;
       if (e.key === ' ' && t.closest?.('button, summary, a')) return;
@@ -77,10 +83,110 @@ export class TrackerView {
 
   /** Called when the route shows the tracker (first time and after coming back). */
   async activate(hash: string): Promise<void> {
-    const q = trackerHashParams(hash);
-    if (this.params.length === 0) await this.loadLists(q.get('video'));
-    const id = q.get('replay');
+    const q = parseTrackerRoute(hash);
+    if (this.params.length === 0) await this.loadLists(q.video);
+    if (q.run) {
+      if (q.run !== this.stored?.info.run) await this.openRun(q.run, q.frame);
+      else if (q.frame !== null && q.frame !== this.current) this.seek(q.frame);
+      return;
+    }
+    const id = q.replay;
     if (id && id !== this.replay?.id) await this.openById(id);
+  }
+
+  /** The stored run this viewer shows (null in replay mode). */
+  get runId(): string | null {
+    return this.stored?.info.run ?? null;
+  }
+
+  /** Frames of the video shown (the cursor's range). */
+  private get frameCount(): number {
+    return this.replay?.frames ?? this.stored?.info.frames ?? 0;
+  }
+
+  /** Opens a stored run at video frame `frame` (its first recorded frame when null). */
+  private async openRun(runId: string, frame: number | null) {
+    this.close();
+    this.replay = null;
+    this.run = null;
+    this.done = true;
+    this.store = null;
+    const d = this.root.dataset;
+    delete d.replay;
+    delete d.connection;
+    d.run = runId;
+    d.state = 'loading';
+    d.complete = 'false';
+    this.setup.setError('');
+    this.setStatus(`Loading run ${runId}…`);
+    const signal = this.ctrl.signal;
+    try {
+      const row = await trackerApi.run(runId, signal);
+      const video = await trackerApi.video(row.video, signal);
+      if (signal.aborted) return;
+      const frames = video.frame_count;
+      const store = new FrameStore(frames);
+      this.store = store;
+      this.unsubscribe = store.subscribe(() => this.onStoreChange());
+      this.current = -1;
+      this.state = { playing: false, frame: 0, speed: 1 };
+      this.controls.setTimestamp(null);
+      this.images.reset(video.intrinsics?.width ?? 0, video.intrinsics?.height ?? 0);
+      this.controls.setFrames(frames);
+      this.controls.setState(this.state);
+      this.timeline.setStore(store);
+      this.trajectories.setStore(store);
+      this.frameData.show(0, null, null);
+      const params: Record<string, number> = {};
+      (row.param_names ?? []).forEach((n, i) => {
+        const v = row.params?.[i];
+        if (typeof v === 'number') params[n] = v;
+      });
+      this.setup.selectVideo(row.video);
+      this.setup.setParams(this.params, params);
+      const logFrames = typeof row.summary?.frames === 'number' ? row.summary.frames : null;
+      this.setup.setRun(runId, `${logFrames ?? '?'} frames tracked of ${frames} · video ${video.name || row.video}`);
+      const source = new StoredRunSource(
+        {
+          run: runId,
+          video: row.video,
+          frames,
+          fps: video.fps > 0 ? video.fps : (row.summary?.fps ?? 30),
+          logFrames,
+          videoHasTruth: video.has_truth !== false,
+          colormap: this.setup.colormapValue,
+        },
+        store,
+        {
+          onState: (s) => this.onState(s),
+          onFrame: (f) => this.onStoredFrame(f),
+          onPage: (loaded, total) => {
+            d.loaded = String(loaded);
+            d.complete = String(loaded >= total);
+            this.setStatus(loaded >= total ? '' : `Loading run ${runId}: ${loaded} / ${total} frames…`);
+          },
+          onError: (msg) => this.setStatus(msg, true),
+        },
+      );
+      this.stored = source;
+      d.state = 'ready';
+      // Without a frame, the source starts at the run's first frame (a run may cover part of its video).
+      source.start(frame);
+      this.root.focus({ preventScroll: true });
+    } catch (e) {
+      if (isAbort(e)) return;
+      const msg = e instanceof ApiError && e.status === 404 ? `Run ${runId} is not stored on the server.` : e instanceof ApiError ? e.detail : String(e);
+      this.setup.setError(msg);
+      this.setStatus(msg, true);
+      d.state = 'error';
+    }
+  }
+
+  private onStoredFrame(f: ShownFrame) {
+    this.images.show(f);
+    if (f.index !== this.current) return;
+    this.frameData.show(f.index, f.frame, f.truth);
+    if (f.frame) this.controls.setTimestamp(f.frame.timestampS);
   }
 
   /** The replay this viewer shows (for the browser test and the console). */
@@ -136,6 +242,8 @@ export class TrackerView {
 
   private open(replay: Replay) {
     this.close();
+    delete this.root.dataset.run;
+    delete this.root.dataset.loaded;
     this.replay = replay;
     this.run = replay.run ?? null;
     this.done = replay.done ?? false;
@@ -232,6 +340,8 @@ export class TrackerView {
   private close() {
     this.socket?.close();
     this.socket = null;
+    this.stored?.close();
+    this.stored = null;
     this.unsubscribe?.();
     this.unsubscribe = null;
     window.clearTimeout(this.pollTimer);
@@ -241,12 +351,13 @@ export class TrackerView {
   }
 
   private send(op: ReplayOp) {
-    if (!this.socket?.send(op)) this.setStatus('Not connected to a replay.', true);
+    if (this.stored) this.stored.send(op);
+    else if (!this.socket?.send(op)) this.setStatus('Not connected to a replay.', true);
   }
 
   /** Every view's seek. The cursor moves at once; the server's frame follows. */
   private seek(frame: number) {
-    const n = this.replay?.frames ?? 0;
+    const n = this.frameCount;
     if (n === 0) return;
     const f = Math.max(0, Math.min(n - 1, Math.round(frame)));
     this.send({ op: 'seek', frame: f });
@@ -259,6 +370,11 @@ export class TrackerView {
     this.controls.setState(s);
     this.root.dataset.playing = String(s.playing);
     if (s.frame !== this.current) this.setCurrent(s.frame);
+    if (this.stored && !s.playing) {
+      // The URL follows a stored run's cursor (not while playing: browsers throttle history updates).
+      const next = trackerRunHash(this.stored.info.run, s.frame);
+      if (window.location.hash !== next) history.replaceState(null, '', next);
+    }
     if (this.done) this.maybeFetchRun();
   }
 
