@@ -18,6 +18,14 @@ struct TipTemplate {
   double radius_px = 0;  ///< at full resolution
   int scale = 1;         ///< image downscale the template runs at
   cv::Mat1f kernel;      ///< at its scale, odd square size
+  /// The kernel's non-zero entries (the bump; a quarter of the kernel): offset from its top-left corner.
+  struct Tap {
+    int dx = 0, dy = 0;
+    float weight = 0;
+  };
+  std::vector<Tap> taps;
+  double mean = 0;  ///< mean of the kernel
+  double norm = 0;  ///< sqrt of the sum of (kernel - mean)^2
 };
 
 /// radii geometric from template_min_px to template_max_px, `templates` of them.
@@ -42,18 +50,32 @@ class NccDetector {
  public:
   explicit NccDetector(const TrackerParams& p);
   const std::vector<TipTemplate>& bank() const { return bank_; }
-  /// Builds the "height" images (filled holes, one per scale) for a new frame.
+  /// Builds the "height" images (filled holes, one per scale) of a new frame, over its prepared regions.
   void set_frame(const PreparedFrame& f);
   std::vector<Match> detect(const std::vector<SearchWindow>& windows) const;
   /// NCC of template `ti` centred at full-resolution pixel (u, v) (the kernel clipped to the image).
   double score_at(double u, double v, int ti) const;
   /// The template whose radius is nearest (in ratio) to `radius_px` (a tracked teat's expected size).
   std::vector<int> templates_near(double radius_px) const;
+  /// NCC (as cv::TM_CCOEFF_NORMED) of template t at every position where it lies inside img: out is
+  /// (img.rows - k + 1) x (img.cols - k + 1) for a k x k kernel. Public for the tests that hold it to
+  /// OpenCV's.
+  void correlate(const cv::Mat1f& img, const TipTemplate& t, cv::Mat1f& out) const;
+  /// dst over r (dst pixels) as the 2x2 means of src (cv::resize INTER_AREA at exactly 1/2).
+  static void halve(const cv::Mat1f& src, cv::Mat1f& dst, const cv::Rect& r);
 
  private:
+  /// The full-resolution height image (-depth, holes filled) over region r of f.
+  void fill_height(const PreparedFrame& f, const cv::Rect& r);
+
   TrackerParams p_;
   std::vector<TipTemplate> bank_;
-  cv::Mat1f height_[3];  ///< scales 1, 2, 4
+  cv::Mat1f height_[3];                       ///< scales 1, 2, 4; valid over the frame's prepared regions
+  std::vector<float> rowmax_, padded_, far_;  ///< scratch of fill_height
+  /// Scratch of correlate (detect is logically const).
+  mutable cv::Mat1f shifted_;
+  mutable std::vector<double> col1_, col2_;
+  mutable std::vector<float> cross_;
 };
 
 }  // namespace trailscope::tracker::detail

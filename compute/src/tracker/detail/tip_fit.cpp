@@ -19,33 +19,40 @@ constexpr int kMaxWindowHalf = 48;  // px
 constexpr double kMaxFitPoints = 110;
 
 struct Model {
-  V3 c, a;
-  double r;
+  V3 c = V3::Zero(), a = V3::UnitZ();
+  double r = 0;
 };
 
 // Signed distance of p from the capsule end: the hemisphere behind c (against a) and the cylinder ahead.
-double residual(const Model& m, const V3& p, Eigen::Matrix<double, 1, 6>* J) {
+// Evaluated for every point at every step of every fit, so kept small enough to inline.
+inline double residual(const Model& m, const V3& p) {
+  const V3 q = p - m.c;
+  const double t = q.dot(m.a);
+  if (t <= 0) return std::max(q.norm(), 1e-9) - m.r;
+  const V3 w = q - t * m.a;
+  return std::max(w.norm(), 1e-9) - m.r;
+}
+
+// The residual and its derivatives J, the axis perturbed as a + x e1 + y e2 (e1, e2 orthonormal to a, the
+// same for every point of an iteration, so computed once by the caller).
+inline double residual(const Model& m, const V3& p, const V3& e1, const V3& e2,
+                       Eigen::Matrix<double, 1, 6>& J) {
   const V3 q = p - m.c;
   const double t = q.dot(m.a);
   if (t <= 0) {
     const double d = std::max(q.norm(), 1e-9);
-    if (J) {
-      J->segment<3>(0) = (-q / d).transpose();
-      J->segment<2>(3).setZero();
-      (*J)(5) = -1;
-    }
+    J.segment<3>(0) = (-q / d).transpose();
+    J.segment<2>(3).setZero();
+    J(5) = -1;
     return d - m.r;
   }
   const V3 w = q - t * m.a;
   const double d = std::max(w.norm(), 1e-9);
-  if (J) {
-    // Axis perturbations a + x e1 + y e2 (e1, e2 orthonormal to a): d(d)/dx = -t (w . e1) / d.
-    V3 e1 = m.a.unitOrthogonal(), e2 = m.a.cross(e1);
-    J->segment<3>(0) = (-w / d).transpose();
-    (*J)(3) = -t * w.dot(e1) / d;
-    (*J)(4) = -t * w.dot(e2) / d;
-    (*J)(5) = -1;
-  }
+  // d(d)/dx = -t (w . e1) / d.
+  J.segment<3>(0) = (-w / d).transpose();
+  J(3) = -t * w.dot(e1) / d;
+  J(4) = -t * w.dot(e2) / d;
+  J(5) = -1;
   return d - m.r;
 }
 
@@ -58,7 +65,7 @@ struct Solve {
 double robust_cost(const Model& m, const std::vector<V3>& pts, const TipPrior& prior, double* rms) {
   double c = 0, s2 = 0;
   for (const auto& p : pts) {
-    const double r = residual(m, p, nullptr), ar = std::fabs(r);
+    const double r = residual(m, p), ar = std::fabs(r);
     c += ar <= kHuber ? 0.5 * r * r : kHuber * (ar - 0.5 * kHuber);
     const double cl = std::min(ar, 3 * kHuber);
     s2 += cl * cl;
@@ -79,8 +86,9 @@ Solve refine(Model m, const std::vector<V3>& pts, const TipPrior& prior, int ite
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
     Eigen::Matrix<double, 1, 6> J;
+    const V3 e1 = m.a.unitOrthogonal(), e2 = m.a.cross(e1);
     for (const auto& p : pts) {
-      const double r = residual(m, p, &J);
+      const double r = residual(m, p, e1, e2, J);
       const double w = std::fabs(r) <= kHuber ? 1.0 : kHuber / std::fabs(r);
       H.noalias() += w * J.transpose() * J;
       g.noalias() += w * r * J.transpose();
@@ -91,7 +99,6 @@ Solve refine(Model m, const std::vector<V3>& pts, const TipPrior& prior, int ite
       g(5) += s * (m.r - prior.radius_mm);
     }
     if (pa.squaredNorm() > 0.5) {
-      const V3 e1 = m.a.unitOrthogonal(), e2 = m.a.cross(e1);
       const double s = 1.0 / (kPriorAxis * kPriorAxis);
       const V3 d = m.a - pa;
       H(3, 3) += s;
@@ -105,7 +112,6 @@ Solve refine(Model m, const std::vector<V3>& pts, const TipPrior& prior, int ite
       for (int i = 0; i < 6; ++i) A(i, i) += lambda * std::max(H(i, i), 1e-6);
       const Eigen::Matrix<double, 6, 1> dx = A.ldlt().solve(-g);
       if (!dx.allFinite()) break;
-      const V3 e1 = m.a.unitOrthogonal(), e2 = m.a.cross(e1);
       Model n = m;
       n.c += dx.segment<3>(0);
       n.a = (m.a + dx(3) * e1 + dx(4) * e2).normalized();
