@@ -62,6 +62,8 @@ TEST_F(ReplayTest, RestRoutes) {
   EXPECT_EQ(j["ws"], "/api/v1/replays/rp1/ws");
   EXPECT_EQ(j["colormap"], "viridis");
   EXPECT_LT(j["depth_range_mm"][0].get<double>(), j["depth_range_mm"][1].get<double>());
+  // The stored video offers the same range, so a stored run's pictures are coloured as the replay's.
+  EXPECT_EQ(body(get("/api/v1/videos/" + video))["depth_range_mm"], j["depth_range_mm"]);
   const auto done = wait_done("rp1");
   EXPECT_EQ(done["computed"], kFrames);
   EXPECT_TRUE(done["error"].is_null()) << done.dump();

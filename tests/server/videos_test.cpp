@@ -27,6 +27,11 @@ TEST_F(VideosTest, UploadListGetDelete) {
   EXPECT_EQ(v["intrinsics"]["width"], 176);
   EXPECT_EQ(v["format"], "trailscope-depth-video");
   EXPECT_GT(v["bytes"].get<std::uint64_t>(), 1000u);
+  // One colour range for the video (the replay test checks it is the replay's): near the arm, far the
+  // background, in mm.
+  ASSERT_EQ(v["depth_range_mm"].size(), 2u);
+  EXPECT_GT(v["depth_range_mm"][0].get<double>(), 0.0);
+  EXPECT_GT(v["depth_range_mm"][1].get<double>() - v["depth_range_mm"][0].get<double>(), 100.0);
   EXPECT_EQ(body(get("/api/v1/videos"))["videos"].size(), 1u);
   EXPECT_EQ(body(get("/api/v1/videos/v1")), v);
   // The upload file became the store's; nothing is left in the upload folder.
@@ -143,6 +148,7 @@ TEST_F(VideosTest, SynthJob) {
   EXPECT_EQ(done.result["origin"], "synthetic");
   EXPECT_EQ(done.result["frame_count"], 24);
   EXPECT_EQ(done.result["source"]["scenario"], "cups-attached");
+  EXPECT_EQ(done.result["depth_range_mm"].size(), 2u);
   EXPECT_EQ(body(get("/api/v1/videos/v1"))["frame_count"], 24);
 
   expect_error(send("POST", "/api/v1/videos/synth", R"({"scenario": "rodeo"})"), 400, "invalid_argument",

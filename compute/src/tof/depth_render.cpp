@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "tof/manifest.hpp"
+#include "trailscope/tof/depth_video_io.hpp"
 #include "trailscope/core/error.hpp"
 
 namespace trailscope::tof {
@@ -91,6 +92,15 @@ density::Image render_amplitude(const std::vector<float>& amplitude, int width, 
 
 nlohmann::json truth_to_json(const FrameTruth& truth) {
   return detail::truth_to_json(truth);
+}
+
+DepthRange video_depth_range(const DepthVideoReader& reader) {
+  std::vector<std::vector<float>> depth;
+  for (std::size_t i = 0; i < std::min(kDepthRangeFrames, reader.size()); ++i)
+    depth.push_back(reader.read_frame(i).depth_mm);
+  std::vector<const std::vector<float>*> frames;
+  for (const auto& d : depth) frames.push_back(&d);
+  return depth_quantile_range(frames);
 }
 
 }  // namespace trailscope::tof

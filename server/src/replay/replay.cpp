@@ -18,7 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 /// Frames whose depth fixes a replay's colour range: enough to see the scene, few enough to open fast.
-constexpr std::size_t kRangeFrames = 10;
 
 /// "run-20261122-155900-3f2a": the run id format of tracker_log.hpp.
 std::string new_run_id() {
@@ -60,13 +59,7 @@ Replay::Replay(std::string id, std::string video_id, const fs::path& video,
   header_.frame_count = info_.frame_count;
   header_.created_utc = created_;
   header_.video_source = info_.source;
-  // One colour range for the whole replay, so that colours do not flicker from frame to frame.
-  std::vector<std::vector<float>> depth;
-  for (std::size_t i = 0; i < std::min(kRangeFrames, info_.frame_count); ++i)
-    depth.push_back(reader_->read_frame(i).depth_mm);
-  std::vector<const std::vector<float>*> ptrs;
-  for (const auto& d : depth) ptrs.push_back(&d);
-  range_ = tof::depth_quantile_range(ptrs);
+  range_ = tof::video_depth_range(*reader_);  // one colour range for the whole replay
   frames_.reserve(info_.frame_count);
   worker_ = std::thread([this, video, t = std::move(tracker)]() mutable {
     try {

@@ -9,6 +9,7 @@
 #include "store/graph_store.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/tof/depth_render.hpp"
 #include "trailscope/tof/depth_video_io.hpp"
 
 namespace trailscope::server {
@@ -19,6 +20,12 @@ namespace {
 constexpr char kPackFile[] = "video.tsdv";
 constexpr char kMetaFile[] = "meta.json";
 constexpr char kMagic[] = "TRAILSCOPE-VIDEO-1";
+
+/// [min, max] mm of tof::video_depth_range: the colour range a viewer uses for every frame of the video.
+nlohmann::json depth_range_json(const tof::DepthVideoReader& reader) {
+  const tof::DepthRange r = tof::video_depth_range(reader);
+  return {r.min_mm, r.max_mm};
+}
 constexpr std::string_view kPackMagic = "TSDVPK01";  // the last 8 bytes of a pack (proto/depth_video.md)
 
 bool has_pack_trailer(const fs::path& p) {
@@ -153,6 +160,7 @@ nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& fi
                     "video folder or PNG frames with `trailscope synth --pack` or DepthVideoWriter");
       if (reader.size() > 0) reader.read_frame(0);  // the manifest can be fine and the PNGs not
       meta = tof::describe_video(reader);
+      meta["depth_range_mm"] = depth_range_json(reader);
     } catch (const Error& e) {
       throw rename_upload(e, file);
     }
@@ -188,6 +196,7 @@ nlohmann::json VideoStore::commit_synthetic(const std::string& id, const tof::Sy
     tof::write_synthetic_video(options, tmp / kPackFile, wo, progress);
     const tof::DepthVideoReader reader(tmp / kPackFile);
     nlohmann::json meta = tof::describe_video(reader);
+    meta["depth_range_mm"] = depth_range_json(reader);
     meta["name"] = name.empty() ? id : std::move(name);
     meta["origin"] = "synthetic";
     return publish(id, tmp, std::move(meta));

@@ -101,9 +101,22 @@ export const trackerApi = {
     return decodeTruth(body?.truth);
   },
 
-  /** A video frame's picture: depth (in `colormap`, the frame's own depth range) or amplitude, as PNG bytes. */
-  async framePng(video: string, index: number, kind: 'depth' | 'amplitude', colormap?: string, signal?: AbortSignal): Promise<Uint8Array> {
-    const q = kind === 'depth' && colormap ? `?${new URLSearchParams({ colormap }).toString()}` : '';
+  /**
+   * A video frame's picture: depth (in `colormap`, over `range` mm — the video's one range, so colours do not
+   * flicker — or else the frame's own) or amplitude, as PNG bytes.
+   */
+  async framePng(
+    video: string,
+    index: number,
+    kind: 'depth' | 'amplitude',
+    colormap?: string,
+    signal?: AbortSignal,
+    range?: [number, number],
+  ): Promise<Uint8Array> {
+    const p = new URLSearchParams();
+    if (kind === 'depth' && colormap) p.set('colormap', colormap);
+    if (kind === 'depth' && range) p.set('min', String(range[0])), p.set('max', String(range[1]));
+    const q = p.toString() ? `?${p.toString()}` : '';
     let res: Response;
     try {
       res = await fetch(`/api/v1/videos/${enc(video)}/frames/${index}/${kind}.png${q}`, { signal });

@@ -18,6 +18,8 @@ export interface Video {
   fps: number;
   intrinsics: Intrinsics;
   has_truth: boolean;
+  /** One colour range for every frame, mm [near, far] (videos stored before it existed lack it). */
+  depth_range_mm?: [number, number];
   source?: { scenario?: string; [k: string]: unknown };
 }
 

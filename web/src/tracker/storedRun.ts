@@ -83,6 +83,8 @@ export interface StoredRunInfo {
   /** Whether the video has ground truth (fetched per frame when the run does not store it). */
   videoHasTruth: boolean;
   colormap: string;
+  /** The video's colour range, mm (GET /api/v1/videos/{v} depth_range_mm), when the store has it. */
+  depthRange?: [number, number];
 }
 
 export interface StoredRunHandlers {
@@ -179,13 +181,13 @@ export class StoredRunSource implements FrameSource {
 
   private async pump() {
     this.fetching = true;
-    const { video, colormap } = this.info;
+    const { video, colormap, depthRange } = this.info;
     const signal = this.ctrl.signal;
     try {
       while (!this.closed && this.want >= 0 && this.want !== this.shown?.index) {
         const f = this.want;
         const [depthPng, amplitudePng, truth] = await Promise.all([
-          trackerApi.framePng(video, f, 'depth', colormap, signal),
+          trackerApi.framePng(video, f, 'depth', colormap, signal, depthRange),
           trackerApi.framePng(video, f, 'amplitude', undefined, signal),
           this.truthOf(f, signal),
         ]);

@@ -155,6 +155,7 @@ export class TrackerView {
           logFrames,
           videoHasTruth: video.has_truth !== false,
           colormap: this.setup.colormapValue,
+          ...(video.depth_range_mm ? { depthRange: video.depth_range_mm } : {}),
         },
         store,
         {

@@ -29,6 +29,14 @@ DepthRange depth_quantile_range(const std::vector<float>& depth_mm, double lo = 
 DepthRange depth_quantile_range(const std::vector<const std::vector<float>*>& frames, double lo = 0.02,
                                 double hi = 0.98);
 
+class DepthVideoReader;
+/// Frames video_depth_range reads.
+inline constexpr std::size_t kDepthRangeFrames = 10;
+/// One colour range for a whole video: depth_quantile_range over its first kDepthRangeFrames frames'
+/// pixels together, so that colours do not flicker from frame to frame (the live replay and the stored
+/// video's "depth_range_mm" use it). Throws as DepthVideoReader::read_frame.
+DepthRange video_depth_range(const DepthVideoReader& reader);
+
 /// Depth as RGBA, width * height values row-major: NEAR IS THE BRIGHT END of the colormap (index 255 at
 /// range.min_mm, 0 at range.max_mm; values beyond clamp), since what a tracker looks for (teat tips) is
 /// nearest the camera. Holes (NaN) are transparent black. Throws Error(invalid_argument, "min") when
