@@ -2,7 +2,7 @@
 // Drives the page like an analyst: picks a data set, brushes a time window, sets an altitude band,
 // checks the summary against the API, the density tiles, the flight track and that nothing left the machine.
 
-import { chromium } from 'playwright-core';
+import { assert, assertEqual, finish, launchBrowser, leavesMachine, sel, test } from './harness.mjs';
 import { mkdir } from 'node:fs/promises';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -16,25 +16,6 @@ const TIMEOUT = 30_000;
 const ALT_MIN = 20000;
 const ALT_MAX = 40000;
 
-// ---------- a tiny sequential harness ----------
-const results = [];
-async function test(name, fn) {
-  const t0 = Date.now();
-  try {
-    await fn();
-    results.push({ name, ok: true });
-    console.log(`  ok    ${name} (${Date.now() - t0} ms)`);
-  } catch (e) {
-    results.push({ name, ok: false });
-    console.log(`  FAIL  ${name} (${Date.now() - t0} ms)\n        ${String(e?.stack ?? e).split('\n').slice(0, 4).join('\n        ')}`);
-  }
-}
-function assert(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-function assertEqual(actual, expected, msg) {
-  if (actual !== expected) throw new Error(`${msg}: expected ${JSON.stringify(expected)}, got ${JSON.stringify(actual)}`);
-}
 
 // ---------- tile maths (XYZ, Web Mercator) ----------
 function lon2x(lon, z) {
@@ -58,20 +39,10 @@ function coveringTiles([w, s, e, n], z) {
   return out;
 }
 
-const LOOPBACK = new Set(['127.0.0.1', 'localhost', '[::1]', '::1']);
-function leavesMachine(url) {
-  const u = new URL(url);
-  if (u.protocol === 'data:' || u.protocol === 'blob:' || u.protocol === 'about:') return false;
-  return !LOOPBACK.has(u.hostname);
-}
 
 // ---------- run ----------
 await mkdir(ARTIFACTS, { recursive: true });
-const browser = await chromium.launch({
-  executablePath: CHROMIUM,
-  headless: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchBrowser(CHROMIUM);
 const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, deviceScaleFactor: 1 });
 const page = await context.newPage();
 page.setDefaultTimeout(TIMEOUT);
@@ -89,7 +60,6 @@ page.on('console', (m) => {
 });
 page.on('pageerror', (e) => consoleErrors.push(`pageerror: ${e.message}`));
 
-const sel = (id) => `[data-testid="${id}"]`;
 const state = { query: '', row: null, bundle: null };
 
 console.log(`TrailScope dashboard test against ${BASE_URL}`);
@@ -394,8 +364,4 @@ await test('screenshot', async () => {
   await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard.png') });
 });
 
-await browser.close();
-const passed = results.filter((r) => r.ok).length;
-const failed = results.length - passed;
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+await finish(browser);

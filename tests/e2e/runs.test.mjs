@@ -13,7 +13,7 @@
 //  - table selection (click, shift-click), parallel-coordinate brushing and the importance bars.
 // Screenshots go to tests/e2e/artifacts/runs-*.png.
 
-import { chromium } from 'playwright-core';
+import { assert, assertEqual, finish, launchBrowser, leavesMachine, sel, test } from './harness.mjs';
 import { mkdir } from 'node:fs/promises';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -34,40 +34,7 @@ const HERE = path.dirname(fileURLToPath(import.meta.url));
 const ARTIFACTS = path.join(HERE, 'artifacts');
 const TIMEOUT = 30_000;
 
-// ---------- a tiny sequential harness (as dashboard.test.mjs) ----------
-const results = [];
-let stop = false;
-async function test(name, fn, { critical = false } = {}) {
-  if (stop) {
-    results.push({ name, ok: false });
-    console.log(`  SKIP  ${name} (an earlier step it needs failed)`);
-    return;
-  }
-  const t0 = Date.now();
-  try {
-    await fn();
-    results.push({ name, ok: true });
-    console.log(`  ok    ${name} (${Date.now() - t0} ms)`);
-  } catch (e) {
-    results.push({ name, ok: false });
-    if (critical) stop = true;
-    console.log(`  FAIL  ${name} (${Date.now() - t0} ms)\n        ${String(e?.stack ?? e).split('\n').slice(0, 4).join('\n        ')}`);
-  }
-}
-function assert(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-function assertEqual(actual, expected, msg) {
-  if (actual !== expected) throw new Error(`${msg}: expected ${JSON.stringify(expected)}, got ${JSON.stringify(actual)}`);
-}
 
-const LOOPBACK = new Set(['127.0.0.1', 'localhost', '[::1]', '::1']);
-function leavesMachine(url) {
-  const u = new URL(url);
-  if (u.protocol === 'data:' || u.protocol === 'blob:' || u.protocol === 'about:') return false;
-  return !LOOPBACK.has(u.hostname);
-}
-const sel = (id) => `[data-testid="${id}"]`;
 
 async function api(method, p, body) {
   const res = await fetch(`${BASE_URL}${p}`, {
@@ -138,11 +105,7 @@ const inside = (p, r, pad = 0) => p.cx >= r.x0 - pad && p.cx <= r.x1 + pad && p.
 
 // ---------- run ----------
 await mkdir(ARTIFACTS, { recursive: true });
-const browser = await chromium.launch({
-  executablePath: CHROMIUM,
-  headless: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchBrowser(CHROMIUM);
 const context = await browser.newContext({ viewport: { width: 1600, height: 1000 }, deviceScaleFactor: 1 });
 const requests = [];
 const errors = [];
@@ -614,8 +577,4 @@ await test('no console errors', async () => {
   assert(errors.length === 0, errors.slice(0, 5).join(' | '));
 });
 
-await browser.close();
-const passed = results.filter((r) => r.ok).length;
-const failed = results.length - passed;
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+await finish(browser);

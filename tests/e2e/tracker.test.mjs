@@ -4,7 +4,7 @@
 // timeline of the whole video holds tracking (blue) and lost (red) frames. Then the replay's stored run
 // opens from #tracker?run=ID&frame=N (no WebSocket): every view at frame N, local step, seek and play.
 
-import { chromium } from 'playwright-core';
+import { assert, assertEqual, finish, launchBrowser, leavesMachine, sel, test } from './harness.mjs';
 import { mkdir } from 'node:fs/promises';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -16,41 +16,8 @@ const HERE = path.dirname(fileURLToPath(import.meta.url));
 const ARTIFACTS = path.join(HERE, 'artifacts');
 const TIMEOUT = 30_000;
 
-// ---------- a tiny sequential harness (as dashboard.test.mjs) ----------
-const results = [];
-let stop = false;
-async function test(name, fn, { critical = false } = {}) {
-  if (stop) {
-    results.push({ name, ok: false });
-    console.log(`  SKIP  ${name} (an earlier step it needs failed)`);
-    return;
-  }
-  const t0 = Date.now();
-  try {
-    await fn();
-    results.push({ name, ok: true });
-    console.log(`  ok    ${name} (${Date.now() - t0} ms)`);
-  } catch (e) {
-    results.push({ name, ok: false });
-    if (critical) stop = true;
-    console.log(`  FAIL  ${name} (${Date.now() - t0} ms)\n        ${String(e?.stack ?? e).split('\n').slice(0, 4).join('\n        ')}`);
-  }
-}
-function assert(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-function assertEqual(actual, expected, msg) {
-  if (actual !== expected) throw new Error(`${msg}: expected ${JSON.stringify(expected)}, got ${JSON.stringify(actual)}`);
-}
 
-const LOOPBACK = new Set(['127.0.0.1', 'localhost', '[::1]', '::1']);
-function leavesMachine(url) {
-  const u = new URL(url);
-  if (u.protocol === 'data:' || u.protocol === 'blob:' || u.protocol === 'about:') return false;
-  return !LOOPBACK.has(u.hostname);
-}
 
-const sel = (id) => `[data-testid="${id}"]`;
 /** x (from a plot's left edge) of the middle of frame i on a frame axis of `width` px (web/src/tracker/frameAxis.ts). */
 const frameX = (i, width) => ((i + 0.5) * width) / st.frames;
 const num = async (page, selector, attr) => Number(await page.getAttribute(selector, attr));
@@ -90,11 +57,7 @@ function timelineColours(page) {
 
 // ---------- run ----------
 await mkdir(ARTIFACTS, { recursive: true });
-const browser = await chromium.launch({
-  executablePath: CHROMIUM,
-  headless: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchBrowser(CHROMIUM);
 const context = await browser.newContext({ viewport: { width: 1440, height: 1000 }, deviceScaleFactor: 1 });
 const requests = [];
 const errors = [];
@@ -367,8 +330,4 @@ await test('no console errors', async () => {
   assert(errors.length === 0, errors.slice(0, 5).join(' | '));
 });
 
-await browser.close();
-const passed = results.filter((r) => r.ok).length;
-const failed = results.length - passed;
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+await finish(browser);

@@ -17,25 +17,7 @@ class ProjectionsTest : public test_routes::TrackerFixture {
  protected:
   Response project(const nlohmann::json& body) { return send("POST", "/api/v1/projections", body.dump()); }
 
-  /// Uploads a 40-frame log with ncc_min = `ncc`, n_lost = `n_lost` and `track` frames in TRACK.
-  void upload_log(double ncc, double n_lost, std::size_t track) {
-    tracker::TrackerLog log;
-    tracker::TrackerParams p;
-    tracker::set_param(p, "ncc_min", ncc);
-    tracker::set_param(p, "n_lost", n_lost);
-    const auto values = tracker::to_vector(p);
-    for (std::size_t i = 0; i < values.size(); ++i)
-      log.header.params.push_back({tracker::parameter_infos()[i].name, values[i]});
-    log.header.fps = 25;
-    log.frames.resize(40);
-    for (std::size_t i = 0; i < log.frames.size(); ++i) {
-      log.frames[i].index = i;
-      log.frames[i].state = i < track ? tracker::State::track : tracker::State::search;
-    }
-    log.header.frame_count = log.frames.size();
-    const Response r = send("POST", "/api/v1/runs", tracker::encode_log(log, tracker::LogEncoding::binary));
-    ASSERT_EQ(r.status, 201) << r.body;
-  }
+  void upload_log(double ncc, double n_lost, std::size_t track) { upload_state_log(ncc, n_lost, track, 40); }
 };
 
 TEST_F(ProjectionsTest, PcaOfPlanarPointsKeepsEveryDistance) {

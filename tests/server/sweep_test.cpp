@@ -83,12 +83,13 @@ TEST_F(SweepTest, GridOverTwoVideosStoresEveryRun) {
 
 TEST_F(SweepTest, AFrameRangeMakesShortRuns) {
   const std::string v = upload_video(12);
-  const Response r = send("POST", "/api/v1/sweeps",
-                          nlohmann::json{{"videos", {v}},
-                                         {"sweep", {{"mode", "random"}, {"samples", 2}, {"axes", {{{"param", "ncc_min"}}}}}},
-                                         {"first_frame", 3},
-                                         {"frame_count", 5}}
-                              .dump());
+  const Response r =
+      send("POST", "/api/v1/sweeps",
+           nlohmann::json{{"videos", {v}},
+                          {"sweep", {{"mode", "random"}, {"samples", 2}, {"axes", {{{"param", "ncc_min"}}}}}},
+                          {"first_frame", 3},
+                          {"frame_count", 5}}
+               .dump());
   ASSERT_EQ(r.status, 202) << r.body;
   EXPECT_EQ(body(r)["sweep"]["frames"], nlohmann::json({{"first_frame", 3}, {"frame_count", 5}}));
   ASSERT_EQ(app->jobs.wait(body(r)["job"]["id"]).state, "done");

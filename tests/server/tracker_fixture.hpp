@@ -10,6 +10,8 @@
 #include "route_fixture.hpp"
 #include "trailscope/tof/depth_video_io.hpp"
 #include "trailscope/tof/synth.hpp"
+#include "trailscope/tracker/params.hpp"
+#include "trailscope/tracker/tracker_log.hpp"
 
 namespace trailscope::server::test_routes {
 
@@ -56,6 +58,28 @@ class TrackerFixture : public RouteFixture {
                             const std::string& detail) {
     expect_error(r, status, error, param);
     EXPECT_EQ(body(r)["detail"], detail);
+  }
+  /// Uploads a log of `frames` frames without ground truth, made with ncc_min = `ncc` and n_lost = `n_lost`
+  /// (the other parameters at their defaults), whose first `track` frames are in TRACK and the rest in
+  /// SEARCH: a run whose track share is known.
+  void upload_state_log(double ncc, double n_lost, std::size_t track, std::size_t frames) {
+    tracker::TrackerLog log;
+    tracker::TrackerParams p;
+    tracker::set_param(p, "ncc_min", ncc);
+    tracker::set_param(p, "n_lost", n_lost);
+    const auto values = tracker::to_vector(p);
+    for (std::size_t i = 0; i < values.size(); ++i)
+      log.header.params.push_back({tracker::parameter_infos()[i].name, values[i]});
+    log.header.fps = 25;
+    log.frames.resize(frames);
+    for (std::size_t i = 0; i < frames; ++i) {
+      log.frames[i].index = i;
+      log.frames[i].timestamp_s = static_cast<double>(i) / 25.0;
+      log.frames[i].state = i < track ? tracker::State::track : tracker::State::search;
+    }
+    log.header.frame_count = frames;
+    const Response r = send("POST", "/api/v1/runs", tracker::encode_log(log, tracker::LogEncoding::binary));
+    ASSERT_EQ(r.status, 201) << r.body;
   }
 };
 

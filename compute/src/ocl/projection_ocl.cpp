@@ -309,14 +309,7 @@ class TsneDevice {
     launch(ctx_, repulse_, n_);
     q.enqueueReadBuffer(attr_, CL_FALSE, 0, af_.size() * 4, af_.data());
     q.enqueueReadBuffer(rep_, CL_TRUE, 0, rf_.size() * 4, rf_.data());  // in-order: waits for all
-    double z = 0;
-    for (std::size_t i = 0; i < n_; ++i) z += rf_[4 * i + 2];
-    z = std::max(z, 1e-300);
-    g.resize(2 * n_);
-    for (std::size_t i = 0; i < n_; ++i) {
-      g[2 * i] = exaggeration * af_[2 * i] - rf_[4 * i] / z;
-      g[2 * i + 1] = exaggeration * af_[2 * i + 1] - rf_[4 * i + 1] / z;
-    }
+    projection::detail::tsne_combine(af_.data(), rf_.data(), 4, n_, exaggeration, g);
   }
 
  private:

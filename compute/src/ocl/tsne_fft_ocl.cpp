@@ -122,14 +122,7 @@ class TsneFftDevice {
 
   void gradient(const std::vector<double>& y, double exaggeration, std::vector<double>& g) {
     compute(y);
-    double z = 0;
-    for (std::size_t i = 0; i < n_; ++i) z += rf_[4 * i + 2];  // Z summed in double
-    z = std::max(z, 1e-300);
-    g.resize(2 * n_);
-    for (std::size_t i = 0; i < n_; ++i) {
-      g[2 * i] = exaggeration * af_[2 * i] - rf_[4 * i] / z;
-      g[2 * i + 1] = exaggeration * af_[2 * i + 1] - rf_[4 * i + 1] / z;
-    }
+    projection::detail::tsne_combine(af_.data(), rf_.data(), 4, n_, exaggeration, g);
   }
 
  private:

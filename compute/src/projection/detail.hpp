@@ -109,6 +109,22 @@ void tsne_optimize(std::vector<double>& y, std::size_t n, const TsneOptions& o,
 /// The attraction Σ_j p_ij·w_ij·(y_i − y_j) of every point (rows × 2), in double.
 void tsne_attraction(const Affinities& P, const std::vector<double>& y, std::vector<double>& attr);
 
+/// The t-SNE gradient exaggeration·attr_i − rep_i / Z from the attraction (2 values a point) and the
+/// repulsion terms (`stride` values a point: the two force sums, then point i's share of Z), every path's
+/// last step. Z is summed in double and floored, so that a layout of coincident points stays finite.
+template <typename A, typename R>
+void tsne_combine(const A* attr, const R* rep, std::size_t stride, std::size_t n, double exaggeration,
+                  std::vector<double>& g) {
+  double z = 0;
+  for (std::size_t i = 0; i < n; ++i) z += rep[stride * i + 2];
+  z = std::max(z, 1e-300);
+  g.resize(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    g[2 * i] = exaggeration * attr[2 * i] - rep[stride * i] / z;
+    g[2 * i + 1] = exaggeration * attr[2 * i + 1] - rep[stride * i + 1] / z;
+  }
+}
+
 /// max(N/12, 200) unless set.
 double tsne_learning_rate(std::size_t n, const TsneOptions& o);
 

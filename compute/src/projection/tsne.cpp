@@ -337,14 +337,7 @@ Embedding run_tsne(const Table& t, const TsneOptions& o, Backend backend, bool r
     }
     detail::tsne_attraction(P, yy, attr);
     fft.compute(yy, n, o.fft, terms);
-    double z = 0;
-    for (std::size_t i = 0; i < n; ++i) z += terms[3 * i + 2];
-    z = std::max(z, 1e-300);
-    out.resize(2 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-      out[2 * i] = ex * attr[2 * i] - terms[3 * i] / z;
-      out[2 * i + 1] = ex * attr[2 * i + 1] - terms[3 * i + 1] / z;
-    }
+    detail::tsne_combine(attr.data(), terms.data(), 3, n, ex, out);
   };
   if (reference) {
     detail::tsne_optimize(y, n, o, ref_grad);

@@ -211,15 +211,8 @@ void check_y(const std::vector<double>& y) {
 // g = exaggeration·attraction − (fx, fy) / Z with Z = Σ z.
 std::vector<double> assemble(const std::vector<double>& attr, const std::vector<double>& terms,
                              double exaggeration) {
-  const std::size_t n = attr.size() / 2;
-  double z = 0;
-  for (std::size_t i = 0; i < n; ++i) z += terms[3 * i + 2];
-  z = std::max(z, 1e-300);
-  std::vector<double> g(2 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    g[2 * i] = exaggeration * attr[2 * i] - terms[3 * i] / z;
-    g[2 * i + 1] = exaggeration * attr[2 * i + 1] - terms[3 * i + 1] / z;
-  }
+  std::vector<double> g;
+  detail::tsne_combine(attr.data(), terms.data(), 3, attr.size() / 2, exaggeration, g);
   return g;
 }
 }  // namespace
