@@ -584,7 +584,8 @@ int main(int argc, char** argv) {
           << "## 7. Multidimensional projections\n\n"
              "`projection_bench`: seeded Gaussian clusters (10 clusters, 50 dimensions, z-scored), projected "
              "by TrailScope's PCA, MDS (exact ≤ 3000 rows, landmark above), t-SNE (perplexity 30, 250 "
-             "early-exaggeration + 500 iterations as FIt-SNE, FFT-interpolated repulsion above 500 rows) and LAMP on the OpenCL "
+             "early-exaggeration + 500 iterations as FIt-SNE, FFT-interpolated repulsion above 500 rows) and "
+             "LAMP on the OpenCL "
              "path (OpenCL on "
           << m("opencl")
           << ") and the C++ reference, and by the npm peers under Node on the same data "

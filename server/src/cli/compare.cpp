@@ -28,11 +28,12 @@ void print_rows(const char* title, const std::vector<analysis::ValueRow>& rows, 
 void add_compare(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("compare", "compare tracker runs of one video: differences and disagreements");
-  cmd->footer("RUN: a tracker log (.tslog or .json, `trailscope track -o`), 2 to " +
-              std::to_string(limits::kMaxCompareRuns) +
-              " of one video. Runs are compared on the frames they share. A frame's disagreement is the mean "
-              "over the\nfour teats of the largest distance between two runs' estimates, plus --miss-mm × the "
-              "share of runs\nthat miss a teat others report. Parameters marked * differ.");
+  cmd->footer(
+      "RUN: a tracker log (.tslog or .json, `trailscope track -o`), 2 to " +
+      std::to_string(limits::kMaxCompareRuns) +
+      " of one video. Runs are compared on the frames they share. A frame's disagreement is the mean "
+      "over the\nfour teats of the largest distance between two runs' estimates, plus --miss-mm × the "
+      "share of runs\nthat miss a teat others report. Parameters marked * differ.");
   struct Opts {
     std::vector<std::string> runs;
     analysis::CompareOptions options;
@@ -41,7 +42,8 @@ void add_compare(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   cmd->add_option("RUN", o->runs, "tracker logs")->required();
   cmd->add_option("--top", o->options.top, "disagreement frames listed")->capture_default_str();
-  cmd->add_option("--miss-mm", o->options.miss_mm, "added to a teat's spread, times the share of runs that miss it, mm")
+  cmd->add_option("--miss-mm", o->options.miss_mm,
+                  "added to a teat's spread, times the share of runs that miss it, mm")
       ->capture_default_str();
   cmd->add_option("--within-mm", o->options.within_mm, "radius of the accuracy figures, mm")
       ->capture_default_str();

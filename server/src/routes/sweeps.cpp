@@ -61,8 +61,9 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
     packs.push_back(app.videos->pack_path(videos.back()));  // 404 "video"
     const auto frames = app.videos->meta(videos.back()).at("frame_count").get<std::int64_t>();
     if (first >= frames)
-      throw invalid_argument("first_frame", "first_frame: " + std::to_string(first) + " is not a frame of video '" +
-                                                videos.back() + "' (it has " + std::to_string(frames) + ")");
+      throw invalid_argument("first_frame", "first_frame: " + std::to_string(first) +
+                                                " is not a frame of video '" + videos.back() + "' (it has " +
+                                                std::to_string(frames) + ")");
     if (first + count > frames)
       throw invalid_argument("frame_count", "frame_count: " + std::to_string(count) + " frames from frame " +
                                                 std::to_string(first) + " run past video '" + videos.back() +
