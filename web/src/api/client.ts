@@ -50,15 +50,25 @@ export async function errorFromResponse(res: Response): Promise<ApiError> {
   return new ApiError(res.status, body);
 }
 
-async function request<T>(path: string, init: RequestInit = {}): Promise<T> {
+/**
+ * fetch, with a network failure as ApiError(0, "network") (an abort is rethrown as it is) and, unless `ok`
+ * accepts the status, a non-2xx answer as the server's ApiError.
+ */
+export async function fetchOk(path: string, init: RequestInit = {}, ok = (res: Response) => res.ok): Promise<Response> {
   let res: Response;
   try {
-    res = await fetch(path, { ...init, headers: { Accept: 'application/json', ...init.headers } });
+    res = await fetch(path, init);
   } catch (e) {
     if (isAbort(e)) throw e;
     throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
   }
-  if (!res.ok) throw await errorFromResponse(res);
+  if (!ok(res)) throw await errorFromResponse(res);
+  return res;
+}
+
+/** A JSON request (undefined for 204 No Content); errors as fetchOk. */
+export async function request<T>(path: string, init: RequestInit = {}): Promise<T> {
+  const res = await fetchOk(path, { ...init, headers: { Accept: 'application/json', ...init.headers } });
   if (res.status === 204) return undefined as T;
   return (await res.json()) as T;
 }
@@ -114,14 +124,7 @@ export const api = {
 
   /** The bundle's TSBL polylines, fully bundled (the client blends toward the originals itself). */
   async bundlePolylines(id: string, signal?: AbortSignal): Promise<ArrayBuffer> {
-    let res: Response;
-    try {
-      res = await fetch(`/api/v1/bundles/${encodeURIComponent(id)}/polylines?format=binary&relaxation=0`, { signal });
-    } catch (e) {
-      if (isAbort(e)) throw e;
-      throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
-    }
-    if (!res.ok) throw await errorFromResponse(res);
+    const res = await fetchOk(`/api/v1/bundles/${encodeURIComponent(id)}/polylines?format=binary&relaxation=0`, { signal });
     return res.arrayBuffer();
   },
 };

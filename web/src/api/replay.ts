@@ -1,22 +1,11 @@
 // The tracker API: videos, parameters, replays and stored runs (REST), and one replay WebSocket viewer.
 
-import { ApiError, errorFromResponse, isAbort } from './client';
+import { fetchOk, request } from './client';
 import type { RunRow } from './runsTypes';
 import { decodeRunFrames, decodeTruth, toNumber, type FrameRecord, type FrameTruth } from './trackerLog';
 import type { PlayerState, Replay, ReplayOp, TrackerParam, Video } from './trackerTypes';
 import { parseFrameMessage, type FrameMessage } from './tsrf';
 
-async function request<T>(path: string, init: RequestInit = {}): Promise<T> {
-  let res: Response;
-  try {
-    res = await fetch(path, { ...init, headers: { Accept: 'application/json', ...init.headers } });
-  } catch (e) {
-    if (isAbort(e)) throw e;
-    throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
-  }
-  if (!res.ok) throw await errorFromResponse(res);
-  return (await res.json()) as T;
-}
 
 /** A list answered bare or wrapped ({videos: [...]}, {params: [...]}, ...). */
 function listOf<T>(body: unknown, key: string): T[] {
@@ -68,13 +57,8 @@ export const trackerApi = {
 
   /** Stops a replay and closes its viewers (its run, once stored, stays). */
   async deleteReplay(id: string): Promise<void> {
-    let res: Response;
-    try {
-      res = await fetch(`/api/v1/replays/${enc(id)}`, { method: 'DELETE' });
-    } catch {
-      throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
-    }
-    if (!res.ok && res.status !== 404) throw await errorFromResponse(res);
+    // 404: already gone, which is what was asked.
+    await fetchOk(`/api/v1/replays/${enc(id)}`, { method: 'DELETE' }, (res) => res.ok || res.status === 404);
   },
 
   /** Frame records [from, to) of a stored run, with their truth when the run has it (at most 1000 a page). */
@@ -117,14 +101,7 @@ export const trackerApi = {
     if (kind === 'depth' && colormap) p.set('colormap', colormap);
     if (kind === 'depth' && range) p.set('min', String(range[0])), p.set('max', String(range[1]));
     const q = p.toString() ? `?${p.toString()}` : '';
-    let res: Response;
-    try {
-      res = await fetch(`/api/v1/videos/${enc(video)}/frames/${index}/${kind}.png${q}`, { signal });
-    } catch (e) {
-      if (isAbort(e)) throw e;
-      throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
-    }
-    if (!res.ok) throw await errorFromResponse(res);
+    const res = await fetchOk(`/api/v1/videos/${enc(video)}/frames/${index}/${kind}.png${q}`, { signal });
     return new Uint8Array(await res.arrayBuffer());
   },
 };

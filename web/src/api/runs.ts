@@ -1,7 +1,7 @@
 // The runs API (stored runs, sweeps, importance, projections, comparisons) and the parsing of a
 // comparison into typed arrays for drawing.
 
-import { ApiError, errorFromResponse, isAbort } from './client';
+import { request } from './client';
 import type {
   CompareRequest,
   CompareRun,
@@ -19,17 +19,6 @@ import type {
 import type { TrackerState } from './trackerLog';
 import type { Job } from './types';
 
-async function request<T>(path: string, init: RequestInit = {}): Promise<T> {
-  let res: Response;
-  try {
-    res = await fetch(path, { ...init, headers: { Accept: 'application/json', ...init.headers } });
-  } catch (e) {
-    if (isAbort(e)) throw e;
-    throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
-  }
-  if (!res.ok) throw await errorFromResponse(res);
-  return (await res.json()) as T;
-}
 
 function post<T>(path: string, body: unknown, signal?: AbortSignal): Promise<T> {
   return request<T>(path, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body), signal });
