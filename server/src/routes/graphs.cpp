@@ -1,13 +1,10 @@
-#include <fstream>
-#include <sstream>
-
 #include "routes/handlers.hpp"
+#include "routes/upload_body.hpp"
 #include "store/dataset_ingest.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 
 namespace trailscope::server::handlers {
-namespace fs = std::filesystem;
 
 namespace {
 /// Longest display name of a graph (characters).
@@ -21,30 +18,6 @@ GraphStore& graph_store(App& app) {
   return *app.graphs;
 }
 
-/// The upload's bytes: a streamed body file (removed when done) or the in-memory body.
-std::string upload_bytes(const Request& req) {
-  if (req.body_file.empty()) {
-    if (req.body.size() > limits::kMaxGraphUploadBytes)
-      throw Error(Error::Kind::payload_too_large, "body", kTooLarge);
-    return req.body;
-  }
-  struct RemoveFile {
-    fs::path p;
-    ~RemoveFile() {
-      std::error_code ec;
-      fs::remove(p, ec);
-    }
-  } cleanup{req.body_file};
-  std::error_code ec;
-  const auto size = fs::file_size(req.body_file, ec);
-  if (ec) throw Error(Error::Kind::internal, "", "cannot read upload " + req.body_file.string());
-  if (size > limits::kMaxGraphUploadBytes) throw Error(Error::Kind::payload_too_large, "body", kTooLarge);
-  std::ifstream in(req.body_file, std::ios::binary);
-  std::string bytes(size, '\0');
-  in.read(bytes.data(), static_cast<std::streamsize>(size));
-  if (!in) throw Error(Error::Kind::internal, "", "cannot read upload " + req.body_file.string());
-  return bytes;
-}
 }  // namespace
 
 Response list_graphs(App& app, const Request& req, const PathParams&) {
@@ -75,8 +48,7 @@ Response create_graph(App& app, const Request& req, const PathParams&) {
       throw invalid_argument("name", "name: 1 to " + std::to_string(kMaxGraphNameLength) + " characters");
     g.name = n->second;
   }
-  const std::string bytes = upload_bytes(req);
-  if (bytes.empty()) throw invalid_argument("body", "body: the upload is empty");
+  const std::string bytes = upload_bytes(req, limits::kMaxGraphUploadBytes, kTooLarge);
   g.bytes = bytes.size();
   // An OD CSV by node name needs its nodes table too: both travel in one JSON object.
   const bool json_body = req.header("content-type").rfind("application/json", 0) == 0;

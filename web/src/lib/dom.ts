@@ -81,3 +81,29 @@ export function debounce<A extends unknown[]>(fn: (...args: A) => void, ms: numb
   };
   return d;
 }
+
+/**
+ * Sizes `canvas` to `box`'s CSS box (whole px) with a backing store at the device's pixel ratio, so that
+ * lines stay sharp on high-density screens. Returns the size in CSS px.
+ */
+export function fitCanvas(canvas: HTMLCanvasElement, box: Element): { width: number; height: number } {
+  const r = box.getBoundingClientRect();
+  const width = Math.max(0, Math.floor(r.width));
+  const height = Math.max(0, Math.floor(r.height));
+  const dpr = window.devicePixelRatio || 1;
+  canvas.width = Math.round(width * dpr);
+  canvas.height = Math.round(height * dpr);
+  canvas.style.width = `${width}px`;
+  canvas.style.height = `${height}px`;
+  return { width, height };
+}
+
+/** The 2D context of a canvas sized by fitCanvas, cleared and drawing in CSS px; null without one. */
+export function cssContext(canvas: HTMLCanvasElement, width: number, height: number): CanvasRenderingContext2D | null {
+  const ctx = canvas.getContext('2d');
+  if (!ctx) return null;
+  const dpr = window.devicePixelRatio || 1;
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  ctx.clearRect(0, 0, width, height);
+  return ctx;
+}

@@ -3,7 +3,7 @@
 // Drag = rectangle brush, Alt-drag or the lasso mode = lasso; Shift adds to the selection; click a point =
 // select its run; Escape clears. Hover shows the run and its metric.
 
-import { h, mount } from '../lib/dom';
+import { cssContext, fitCanvas, h, mount } from '../lib/dom';
 import { cssGradient } from '../lib/colors';
 import type { ColorScale } from './colorScale';
 import { brushHits, fitPoints, nearest, normRect, type Fit, type Pt } from './geometry';
@@ -147,14 +147,7 @@ export class ProjectionView {
   }
 
   private resize() {
-    const r = this.plot.getBoundingClientRect();
-    this.width = Math.max(0, Math.floor(r.width));
-    this.height = Math.max(0, Math.floor(r.height));
-    const dpr = window.devicePixelRatio || 1;
-    this.canvas.width = Math.round(this.width * dpr);
-    this.canvas.height = Math.round(this.height * dpr);
-    this.canvas.style.width = `${this.width}px`;
-    this.canvas.style.height = `${this.height}px`;
+    ({ width: this.width, height: this.height } = fitCanvas(this.canvas, this.plot));
     this.refit();
     this.draw();
   }
@@ -239,11 +232,9 @@ export class ProjectionView {
   }
 
   private draw() {
-    const ctx = this.canvas.getContext('2d');
-    if (!ctx || this.width === 0) return;
-    const dpr = window.devicePixelRatio || 1;
-    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
-    ctx.clearRect(0, 0, this.width, this.height);
+    if (this.width === 0) return;
+    const ctx = cssContext(this.canvas, this.width, this.height);
+    if (!ctx) return;
     ctx.fillStyle = '#0b0f14';
     ctx.fillRect(0, 0, this.width, this.height);
     const order: number[] = [];

@@ -1,7 +1,7 @@
 // The interactive strip shared by the frame-axis views: a canvas that fills its host, a current-frame
 // cursor, a hover readout, and click/drag → seek (the frame under the pointer, frameAxis.frameAt).
 
-import { h } from '../lib/dom';
+import { cssContext, fitCanvas, h } from '../lib/dom';
 import { frameAt, xOfFrame } from './frameAxis';
 
 export interface AxisSurfaceOptions {
@@ -115,25 +115,16 @@ export class AxisSurface {
   }
 
   private resize() {
-    const r = this.root.getBoundingClientRect();
-    this.width = Math.max(0, Math.floor(r.width));
-    this.height = Math.max(0, Math.floor(r.height));
-    const dpr = window.devicePixelRatio || 1;
-    this.canvas.width = Math.round(this.width * dpr);
-    this.canvas.height = Math.round(this.height * dpr);
-    this.canvas.style.width = `${this.width}px`;
-    this.canvas.style.height = `${this.height}px`;
+    ({ width: this.width, height: this.height } = fitCanvas(this.canvas, this.root));
     this.placeCursor();
     this.dirty = false;
     this.redraw();
   }
 
   private redraw() {
-    const ctx = this.canvas.getContext('2d');
-    if (!ctx || this.width === 0 || this.height === 0) return;
-    const dpr = window.devicePixelRatio || 1;
-    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
-    ctx.clearRect(0, 0, this.width, this.height);
+    if (this.width === 0 || this.height === 0) return;
+    const ctx = cssContext(this.canvas, this.width, this.height);
+    if (!ctx) return;
     this.opts.draw(ctx, this.width, this.height);
   }
 }
