@@ -78,7 +78,7 @@ void RunStore::touch(const std::string& id, std::shared_ptr<const tracker::Track
 }
 
 std::shared_ptr<const tracker::TrackerLog> RunStore::get(const std::string& id) const {
-  rows_.meta(id, "run");  // not_found first: the cache may still hold a log deleted a moment ago
+  rows_.payload_path(id);  // not_found first: the cache may still hold a log deleted a moment ago
   {
     std::lock_guard lock(cache_mu_);
     for (const auto& [lid, log] : loaded_)
