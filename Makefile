@@ -6,7 +6,8 @@ PORT ?= 8080
 JOBS ?= $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-# Debian packages (see ../shared/research/toolchain.md §0). Only the missing ones are installed.
+# Debian packages (Debian 12 names; Boost 1.81 brings Beast, Asio, JSON and URL). Only the missing ones are
+# installed.
 APT_PACKAGES := build-essential cmake ninja-build pkg-config \
   libeigen3-dev libopencv-dev libgeographiclib-dev libopenimageio-dev openimageio-tools \
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo \

@@ -439,8 +439,8 @@ inline const char* kPeerColumns =
 
 /// The two layouts loaded for every data set; the peer's figure for a query is its faster layout.
 ///  - "m":  ORDER BY (morton, t), one part after OPTIMIZE FINAL: adsb.exposed's key, best for tiles;
-///  - "hm": PARTITION BY hour, ORDER BY (morton, t): the time-first layout that the ClickHouse baseline
-///          (shared/research/clickhouse-baseline.md) found best for time windows.
+///  - "hm": PARTITION BY hour, ORDER BY (morton, t): the time-first layout; hourly partitions let a 1-hour
+///          window skip the other hours' parts (a scan of the bbox region of every day otherwise).
 struct PeerLayout {
   const char* suffix;
   const char* engine;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Starts and stops a private ClickHouse server (Debian's clickhouse-server 18.16) on 127.0.0.1 only, with
 # its own data folder, for the peer benchmark. No systemd and no init script: the server runs in the
-# background and is stopped by its PID (see ../../../shared/research/toolchain.md §5).
+# background and is stopped by its PID. Debian's package does not start it at install, and its stock
+# config.xml sets no listen_host (both lines sit inside a comment), so this copy adds 127.0.0.1 explicitly.
 #
 #   clickhouse_ctl.sh start DIR [HTTP_PORT]   # prints nothing; waits until /ping answers (≤ 30 s)
 #   clickhouse_ctl.sh stop DIR                # TERM, then KILL after 10 s; removes nothing
