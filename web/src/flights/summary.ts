@@ -2,7 +2,7 @@
 
 import type { AltitudeHistogram, Summary } from '../api/types';
 import { h, mount, svg } from '../lib/dom';
-import { trimTail } from '../lib/histogram';
+import { trimTail } from './histogram';
 import { formatCompact, formatDuration, formatInt, formatSpeed, formatUtc } from '../lib/format';
 
 export interface SummaryEvents {

@@ -2,7 +2,7 @@
 
 import { COLORMAPS, DENSITY_HOWS, DENSITY_VALUES, EMPTY_FILTERS, normalizeBBox, type OnGround } from '../api/query';
 import type { Colormap, Dataset, DensityHow, DensityValue } from '../api/types';
-import type { AppState, Store } from '../state';
+import type { AppState, Store } from './state';
 import { COLORMAP_STOPS, cssGradient } from '../lib/colors';
 import { debounce, h, mount } from '../lib/dom';
 import { formatCompact, formatInt, formatUtc } from '../lib/format';

@@ -5,8 +5,8 @@ import workerUrl from 'maplibre-gl/dist/maplibre-gl-worker.mjs?url';
 import 'maplibre-gl/dist/maplibre-gl.css';
 import type { BBox, FlightFeature } from '../api/types';
 import { ApiError, errorFromResponse } from '../api/client';
-import { basemapStyle, loadBasemapData } from '../render/basemap';
-import { altitudeColorExpression, trackData } from '../render/track';
+import { basemapStyle, loadBasemapData } from './basemap';
+import { altitudeColorExpression, trackData } from './track';
 import { h } from '../lib/dom';
 
 maplibregl.setWorkerUrl(workerUrl);

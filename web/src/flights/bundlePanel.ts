@@ -6,9 +6,9 @@ import { ApiError, api, bundleTileTemplate, isAbort } from '../api/client';
 import { buildQuery } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
 import { debounce, h, mount } from '../lib/dom';
-import { blendSource, decodeTsbl } from '../lib/tsbl';
-import type { BundleOverlay } from '../render/bundleOverlay';
-import type { Store } from '../state';
+import { blendSource, decodeTsbl } from './tsbl';
+import type { BundleOverlay } from './bundleOverlay';
+import type { Store } from './state';
 import type { ErrorSlots } from './errors';
 import type { MapView } from './map';
 
