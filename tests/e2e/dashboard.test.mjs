@@ -1,4 +1,4 @@
-// Browser test of the TrailScope dashboard (run through run.sh, which starts the server).
+// Browser test of the TrailScope flight dashboard (run through run.sh, which starts the server).
 // Drives the page like an analyst: picks a data set, brushes a time window, sets an altitude band,
 // checks the summary against the API, the density tiles, the flight track and that nothing left the machine.
 
