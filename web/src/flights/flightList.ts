@@ -1,4 +1,4 @@
-// The paged flight list. A row click selects the flight (its track is drawn by the app).
+// The paged flight list. A row click selects the flight (flightsView.ts loads and draws its track).
 
 import type { FlightPage, FlightRow } from '../api/types';
 import { h, mount, sectionHead } from '../lib/dom';
