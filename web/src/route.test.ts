@@ -1,13 +1,16 @@
 import { describe, expect, it } from 'vitest';
-import { dashboardOf } from './route';
+import { dashboardOf, type Dashboard } from './route';
+
+// #tracker… is the tracker's, #runs… the runs dashboard's, any other hash the flight dashboard's.
+const CASES: [string, Dashboard][] = [
+  ['#tracker', 'tracker'],
+  ['#tracker?run=r1&frame=3', 'tracker'],
+  ['#runs?sweep=s1', 'runs'],
+  ['#runsx', 'map'],
+  ['#dataset=europe&value=count', 'map'],
+  ['', 'map'],
+];
 
 describe('dashboardOf', () => {
-  it('gives #tracker… to the tracker, #runs… to the runs dashboard and any other hash to the flights', () => {
-    expect(dashboardOf('#tracker')).toBe('tracker');
-    expect(dashboardOf('#tracker?run=r1&frame=3')).toBe('tracker');
-    expect(dashboardOf('#runs?sweep=s1')).toBe('runs');
-    expect(dashboardOf('#runsx')).toBe('map');
-    expect(dashboardOf('#dataset=europe&value=count')).toBe('map');
-    expect(dashboardOf('')).toBe('map');
-  });
+  it.each(CASES)('"%s" shows the %s dashboard', (hash, view) => expect(dashboardOf(hash)).toBe(view));
 });
