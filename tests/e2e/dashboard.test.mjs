@@ -1,21 +1,13 @@
-// Browser test of the TrailScope dashboard (run through run.sh, which starts the server).
+// Browser test of the TrailScope flight dashboard (run through run.sh, which starts the server).
 // Drives the page like an analyst: picks a data set, brushes a time window, sets an altitude band,
 // checks the summary against the API, the density tiles, the flight track and that nothing left the machine.
 
-import { assert, assertEqual, finish, launchBrowser, leavesMachine, sel, test } from './harness.mjs';
-import { mkdir } from 'node:fs/promises';
+import { ARTIFACTS, BASE_URL, TIMEOUT, assert, assertEqual, finish, launchBrowser, leavesMachine, recordErrors, sel, test } from './harness.mjs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 
-const BASE_URL = process.env.BASE_URL ?? 'http://127.0.0.1:8080';
 const DATASET = process.env.DATASET ?? 'europe';
-const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
-const HERE = path.dirname(fileURLToPath(import.meta.url));
-const ARTIFACTS = path.join(HERE, 'artifacts');
-const TIMEOUT = 30_000;
 const ALT_MIN = 20000;
 const ALT_MAX = 40000;
-
 
 // ---------- tile maths (XYZ, Web Mercator) ----------
 function lon2x(lon, z) {
@@ -39,10 +31,8 @@ function coveringTiles([w, s, e, n], z) {
   return out;
 }
 
-
 // ---------- run ----------
-await mkdir(ARTIFACTS, { recursive: true });
-const browser = await launchBrowser(CHROMIUM);
+const browser = await launchBrowser();
 const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, deviceScaleFactor: 1 });
 const page = await context.newPage();
 page.setDefaultTimeout(TIMEOUT);
@@ -55,10 +45,7 @@ page.on('websocket', (ws) => requests.push(ws.url()));
 page.on('response', (r) => {
   if (r.url().includes('/tiles/')) tileResponses.push({ url: r.url(), status: r.status(), type: r.headers()['content-type'] ?? '' });
 });
-page.on('console', (m) => {
-  if (m.type() === 'error') consoleErrors.push(`console: ${m.text()}`);
-});
-page.on('pageerror', (e) => consoleErrors.push(`pageerror: ${e.message}`));
+recordErrors(page, consoleErrors);
 
 const state = { query: '', row: null, bundle: null };
 

@@ -1,8 +1,20 @@
-// The browser tests' shared harness: sequential named steps with ok/FAIL/SKIP lines, assertions, the
-// headless Chromium every test launches (WebGL through SwiftShader), the loopback check, and the summary
-// line run.sh reads ("N passed, M failed").
+// The browser tests' shared harness: their environment, sequential named steps with ok/FAIL/SKIP lines,
+// assertions, the headless Chromium every test launches (WebGL through SwiftShader), the page-error
+// recorder, the loopback check, the tracker view's stored-run waits, and the summary line run.sh reads
+// ("N passed, M failed").
 
+import { mkdir } from 'node:fs/promises';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+
+/** The server under test (run.sh sets it). */
+export const BASE_URL = process.env.BASE_URL ?? 'http://127.0.0.1:8080';
+export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+/** The screenshots' folder, tests/e2e/artifacts. */
+export const ARTIFACTS = path.join(path.dirname(fileURLToPath(import.meta.url)), 'artifacts');
+/** Every page's default timeout (ms). */
+export const TIMEOUT = 30_000;
 
 const results = [];
 let stop = false;
@@ -47,13 +59,55 @@ export function leavesMachine(url) {
 /** The selector of an element's data-testid. */
 export const sel = (id) => `[data-testid="${id}"]`;
 
-/** Headless Chromium at `executablePath` with WebGL through SwiftShader (never --use-gl=swiftshader). */
-export function launchBrowser(executablePath) {
+/**
+ * Makes the artifacts folder, then launches headless Chromium at `executablePath` with WebGL through
+ * SwiftShader (never --use-gl=swiftshader).
+ */
+export async function launchBrowser(executablePath = CHROMIUM) {
+  await mkdir(ARTIFACTS, { recursive: true });
   return chromium.launch({
     executablePath,
     headless: true,
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
+}
+
+/** Records the page's console errors and uncaught exceptions in `errors`, each line starting with `prefix`. */
+export function recordErrors(page, errors, prefix = '') {
+  page.on('console', (m) => {
+    if (m.type() === 'error') errors.push(`${prefix}console: ${m.text()}`);
+  });
+  page.on('pageerror', (e) => errors.push(`${prefix}pageerror: ${e.message}`));
+}
+
+/** Waits until the tracker view shows stored run `run` with all its frames loaded. */
+export function trackerRunReady(page, run) {
+  return page.waitForFunction((r) => {
+    const t = document.querySelector('[data-testid="tracker"]');
+    return t?.dataset.run === r && t.dataset.state === 'ready' && t.dataset.complete === 'true';
+  }, run);
+}
+
+/**
+ * Waits until the tracker view shows frame `f`: the frame counter, the pictures (with an image) and the
+ * frame data; also each plot of `cursors` (data-testids) with its cursor there, and with `index` the frame
+ * data's index text.
+ */
+export function trackerShowsFrame(page, f, { cursors = [], index = false } = {}) {
+  return page.waitForFunction(
+    ([f, cursors, index]) => {
+      const q = (id) => document.querySelector(`[data-testid="${id}"]`);
+      return (
+        Number(q('replay-frame')?.dataset.frame) === f &&
+        Number(q('replay-images')?.dataset.frame) === f &&
+        q('replay-images')?.dataset.hasImage === 'true' &&
+        Number(q('frame-data')?.dataset.frame) === f &&
+        cursors.every((id) => Number(q(id)?.dataset.cursor) === f) &&
+        (!index || q('frame-data-index')?.textContent?.trim() === String(f))
+      );
+    },
+    [f, cursors, index],
+  );
 }
 
 /** Closes the browser, prints "N passed, M failed" and exits non-zero on any failure. */

@@ -13,13 +13,9 @@
 //  - table selection (click, shift-click), parallel-coordinate brushing and the importance bars.
 // Screenshots go to tests/e2e/artifacts/runs-*.png.
 
-import { assert, assertEqual, finish, launchBrowser, leavesMachine, sel, test } from './harness.mjs';
-import { mkdir } from 'node:fs/promises';
+import { ARTIFACTS, BASE_URL, TIMEOUT, assert, assertEqual, finish, launchBrowser, leavesMachine, recordErrors, sel, test, trackerRunReady, trackerShowsFrame } from './harness.mjs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 
-const BASE_URL = process.env.BASE_URL ?? 'http://127.0.0.1:8080';
-const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const SAMPLES = Number(process.env.RUNS_SAMPLES ?? 100);
 const FRAMES = Number(process.env.RUNS_FRAMES ?? 64);
 const SCENARIOS = (process.env.RUNS_SCENARIOS ?? 'standard,fast-motion').split(',');
@@ -30,11 +26,6 @@ const K = 10;
 const MIN_KNN = 0.85;
 const MIN_KNN_OVER_CHANCE = 0.2;
 const MIN_SEPARATION = 1.0;
-const HERE = path.dirname(fileURLToPath(import.meta.url));
-const ARTIFACTS = path.join(HERE, 'artifacts');
-const TIMEOUT = 30_000;
-
-
 
 async function api(method, p, body) {
   const res = await fetch(`${BASE_URL}${p}`, {
@@ -104,18 +95,14 @@ function regionAround(points, cx, cy, m) {
 const inside = (p, r, pad = 0) => p.cx >= r.x0 - pad && p.cx <= r.x1 + pad && p.cy >= r.y0 - pad && p.cy <= r.y1 + pad;
 
 // ---------- run ----------
-await mkdir(ARTIFACTS, { recursive: true });
-const browser = await launchBrowser(CHROMIUM);
+const browser = await launchBrowser();
 const context = await browser.newContext({ viewport: { width: 1600, height: 1000 }, deviceScaleFactor: 1 });
 const requests = [];
 const errors = [];
 context.on('request', (r) => requests.push(r.url()));
 const page = await context.newPage();
 page.setDefaultTimeout(TIMEOUT);
-page.on('console', (m) => {
-  if (m.type() === 'error') errors.push(`console: ${m.text()}`);
-});
-page.on('pageerror', (e) => errors.push(`pageerror: ${e.message}`));
+recordErrors(page, errors);
 
 const st = { videos: [], sweep: null, runs: new Map(), points: [], good: [] };
 const state = () => page.evaluate(() => window.__trailscopeRuns.state());
@@ -277,16 +264,26 @@ async function checkSelectionAndLanes(expectIn, expectOut, label) {
   return s;
 }
 
-await test('brush a region of good points: those runs are selected in the table and compared', async () => {
+/**
+ * Brushes the region around the centroid of the points whose runs `pick` accepts, then checks the
+ * selection and the lanes (checkSelectionAndLanes, under `label`): every point inside the region is
+ * selected, none outside. Returns the region and the state.
+ */
+async function brushAroundCentroid(pick, label) {
   const pts = (await state()).points;
-  const good = pts.filter((p) => isGood(st.runs.get(p.id)));
-  const cx = good.reduce((s, p) => s + p.cx, 0) / good.length;
-  const cy = good.reduce((s, p) => s + p.cy, 0) / good.length;
+  const group = pts.filter((p) => pick(st.runs.get(p.id)));
+  const cx = group.reduce((s, p) => s + p.cx, 0) / group.length;
+  const cy = group.reduce((s, p) => s + p.cy, 0) / group.length;
   const r = regionAround(pts, cx, cy, 24);
   await brush(r);
   const expectIn = pts.filter((p) => inside(p, r, -1)).map((p) => p.id);
   const expectOut = new Set(pts.filter((p) => !inside(p, r, 1)).map((p) => p.id));
-  const s = await checkSelectionAndLanes(expectIn, expectOut, 'good brush');
+  const s = await checkSelectionAndLanes(expectIn, expectOut, label);
+  return { r, s };
+}
+
+await test('brush a region of good points: those runs are selected in the table and compared', async () => {
+  const { r, s } = await brushAroundCentroid(isGood, 'good brush');
   const share = s.selection.filter((id) => isGood(st.runs.get(id))).length / s.selection.length;
   console.log(`        good brush: ${s.selection.length} runs selected, ${(share * 100).toFixed(0)} % good; lanes ${s.lanes.join(', ')}`);
   assert(s.selection.length >= 5, `the brush holds runs (${s.selection.length})`);
@@ -321,15 +318,7 @@ await test('the lasso brush (lasso mode) selects the same runs around the good r
 });
 
 await test('brush a region of bad points: the selection and the lanes follow', async () => {
-  const pts = (await state()).points;
-  const bad = pts.filter((p) => !isGood(st.runs.get(p.id)));
-  const cx = bad.reduce((s, p) => s + p.cx, 0) / bad.length;
-  const cy = bad.reduce((s, p) => s + p.cy, 0) / bad.length;
-  const r = regionAround(pts, cx, cy, 24);
-  await brush(r);
-  const expectIn = pts.filter((p) => inside(p, r, -1)).map((p) => p.id);
-  const expectOut = new Set(pts.filter((p) => !inside(p, r, 1)).map((p) => p.id));
-  const s = await checkSelectionAndLanes(expectIn, expectOut, 'bad brush');
+  const { r, s } = await brushAroundCentroid((run) => !isGood(run), 'bad brush');
   const share = s.selection.filter((id) => !isGood(st.runs.get(id))).length / s.selection.length;
   console.log(`        bad brush: ${s.selection.length} runs selected, ${(share * 100).toFixed(0)} % bad; lanes ${s.lanes.join(', ')}`);
   assert(share >= 0.8, `the region around the bad centroid is mostly bad runs (${(share * 100).toFixed(0)} %)`);
@@ -496,20 +485,8 @@ await test('"open" on a lane shows the stored run in the tracker view at the cur
   const replaysBefore = (await api('GET', '/api/v1/replays')).replays?.length ?? 0;
   await link.click();
   await page.waitForFunction(() => document.getElementById('app')?.dataset.view === 'tracker');
-  await page.waitForFunction((r) => {
-    const t = document.querySelector('[data-testid="tracker"]');
-    return t?.dataset.run === r && t.dataset.state === 'ready' && t.dataset.complete === 'true';
-  }, id);
-  const shows = (f) =>
-    page.waitForFunction(
-      (f) =>
-        Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) === f &&
-        Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f &&
-        document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true' &&
-        Number(document.querySelector('[data-testid="frame-data"]')?.dataset.frame) === f &&
-        document.querySelector('[data-testid="frame-data-index"]')?.textContent?.trim() === String(f),
-      f,
-    );
+  await trackerRunReady(page, id);
+  const shows = (f) => trackerShowsFrame(page, f, { index: true });
   await shows(frame);
   const counter = await page.textContent(sel('replay-frame'));
   assert(new RegExp(`frame ${frame} /`).test(counter), `the counter reads "${counter}"`);

@@ -4,19 +4,10 @@
 // timeline of the whole video holds tracking (blue) and lost (red) frames. Then the replay's stored run
 // opens from #tracker?run=ID&frame=N (no WebSocket): every view at frame N, local step, seek and play.
 
-import { assert, assertEqual, finish, launchBrowser, leavesMachine, sel, test } from './harness.mjs';
-import { mkdir } from 'node:fs/promises';
+import { ARTIFACTS, BASE_URL, TIMEOUT, assert, assertEqual, finish, launchBrowser, leavesMachine, recordErrors, sel, test, trackerRunReady, trackerShowsFrame } from './harness.mjs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 
-const BASE_URL = process.env.BASE_URL ?? 'http://127.0.0.1:8080';
 const VIDEO = process.env.TRACKER_VIDEO ?? 'cups-attached';
-const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
-const HERE = path.dirname(fileURLToPath(import.meta.url));
-const ARTIFACTS = path.join(HERE, 'artifacts');
-const TIMEOUT = 30_000;
-
-
 
 /** x (from a plot's left edge) of the middle of frame i on a frame axis of `width` px (web/src/tracker/frameAxis.ts). */
 const frameX = (i, width) => ((i + 0.5) * width) / st.frames;
@@ -56,8 +47,7 @@ function timelineColours(page) {
 }
 
 // ---------- run ----------
-await mkdir(ARTIFACTS, { recursive: true });
-const browser = await launchBrowser(CHROMIUM);
+const browser = await launchBrowser();
 const context = await browser.newContext({ viewport: { width: 1440, height: 1000 }, deviceScaleFactor: 1 });
 const requests = [];
 const errors = [];
@@ -66,10 +56,7 @@ async function newViewer(name) {
   const page = await context.newPage();
   page.setDefaultTimeout(TIMEOUT);
   page.on('websocket', (ws) => requests.push(ws.url()));
-  page.on('console', (m) => {
-    if (m.type() === 'error') errors.push(`${name} console: ${m.text()}`);
-  });
-  page.on('pageerror', (e) => errors.push(`${name} pageerror: ${e.message}`));
+  recordErrors(page, errors, `${name} `);
   return page;
 }
 const a = await newViewer('A');
@@ -242,21 +229,8 @@ await test("#tracker?run=RUN&frame=N opens the replay's stored run at frame N: e
   const onSocket = (ws) => sockets.push(ws.url());
   b.on('websocket', onSocket);
   await b.evaluate(([run, f]) => (location.hash = `#tracker?run=${encodeURIComponent(run)}&frame=${f}`), [r.run, frame]);
-  await b.waitForFunction((run) => {
-    const t = document.querySelector('[data-testid="tracker"]');
-    return t?.dataset.run === run && t.dataset.state === 'ready' && t.dataset.complete === 'true';
-  }, r.run);
-  const shows = (f) =>
-    b.waitForFunction(
-      (f) =>
-        Number(document.querySelector('[data-testid="replay-frame"]')?.dataset.frame) === f &&
-        Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === f &&
-        document.querySelector('[data-testid="replay-images"]')?.dataset.hasImage === 'true' &&
-        Number(document.querySelector('[data-testid="frame-data"]')?.dataset.frame) === f &&
-        Number(document.querySelector('[data-testid="state-timeline"]')?.dataset.cursor) === f &&
-        Number(document.querySelector('[data-testid="trajectory-z"]')?.dataset.cursor) === f,
-      f,
-    );
+  await trackerRunReady(b, r.run);
+  const shows = (f) => trackerShowsFrame(b, f, { cursors: ['state-timeline', 'trajectory-z'] });
   await shows(frame);
   await b.waitForFunction((n) => Number(document.querySelector('[data-testid="state-timeline"]')?.dataset.known) === n, st.frames);
   assert(new RegExp(`frame ${frame} /`).test(await b.textContent(sel('replay-frame'))), 'the counter shows the frame');

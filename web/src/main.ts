@@ -1,42 +1,46 @@
 import './styles.css';
-import { App, showFatal } from './app';
-import { byId } from './lib/dom';
-import { isTrackerHash } from './tracker/route';
+import { FlightsView } from './flights/flightsView';
+import { byId, mount } from './lib/dom';
+import { dashboardOf } from './route';
 import { TrackerView } from './tracker/trackerView';
-import { isRunsHash } from './runs/route';
 import { RunsView } from './runs/runsView';
 
-// Three views behind one top bar: the flight map dashboard (any hash), the tracker (#tracker…) and the
-// runs dashboard (#runs…). Each is built the first time it is shown.
-let app: App | null = null;
+// Three dashboards behind one top bar: the flight map dashboard (flights/, any hash), the tracker
+// (tracker/, #tracker…) and the runs dashboard (runs/, #runs…). Each is built the first time it is shown.
+let flights: FlightsView | null = null;
 let tracker: TrackerView | null = null;
 let runs: RunsView | null = null;
 
 function route() {
-  const isTracker = isTrackerHash(window.location.hash);
-  const isRuns = isRunsHash(window.location.hash);
-  const view = isTracker ? 'tracker' : isRuns ? 'runs' : 'map';
+  const view = dashboardOf(window.location.hash);
   byId('app').dataset.view = view;
   for (const tab of document.querySelectorAll<HTMLAnchorElement>('.view-tab')) {
     if (tab.dataset.view === view) tab.setAttribute('aria-current', 'page');
     else tab.removeAttribute('aria-current');
   }
   try {
-    if (isTracker) {
+    if (view === 'tracker') {
       tracker ??= new TrackerView(byId('tracker-root'));
       void tracker.activate(window.location.hash);
-    } else if (isRuns) {
+    } else if (view === 'runs') {
       runs ??= new RunsView(byId('runs-root'));
       void runs.activate(window.location.hash);
-    } else if (app) {
-      app.show();
+    } else if (flights) {
+      flights.show();
     } else {
-      app = new App();
+      flights = new FlightsView();
     }
   } catch (e) {
     console.error(e);
     showFatal(e);
   }
+}
+
+function showFatal(err: unknown) {
+  const banner = document.getElementById('banner');
+  if (!banner) return;
+  mount(banner, `TrailScope failed to start: ${err instanceof Error ? err.message : String(err)}`);
+  banner.hidden = false;
 }
 
 window.addEventListener('hashchange', route);

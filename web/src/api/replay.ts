@@ -1,6 +1,7 @@
 // The tracker API: videos, parameters, replays and stored runs (REST), and one replay WebSocket viewer.
 
 import { fetchOk, request } from './client';
+import { ReconnectingSocket, type SocketState } from './socket';
 import type { RunRow } from './runsTypes';
 import { decodeRunFrames, decodeTruth, toNumber, type FrameRecord, type FrameTruth } from './trackerLog';
 import type { PlayerState, Replay, ReplayOp, TrackerParam, Video } from './trackerTypes';
@@ -142,7 +143,7 @@ export interface ReplaySocketHandlers {
   onFrame(msg: FrameMessage): void;
   onRun(run: string): void;
   onError(error: string, detail: string): void;
-  onConnection(state: 'connecting' | 'open' | 'closed'): void;
+  onConnection(state: SocketState): void;
 }
 
 function playerState(o: Record<string, unknown>, prev?: PlayerState): PlayerState {
@@ -161,71 +162,39 @@ function playerState(o: Record<string, unknown>, prev?: PlayerState): PlayerStat
 
 /** One viewer of a replay: its own cursor on the server. Reconnects with backoff while not closed. */
 export class ReplaySocket {
-  private ws: WebSocket | null = null;
-  private closed = false;
-  private retry = 0;
-  private timer: number | undefined;
+  private readonly socket: ReconnectingSocket;
   private last: PlayerState | undefined;
 
-  constructor(
-    private readonly path: string,
-    private readonly handlers: ReplaySocketHandlers,
-  ) {}
+  constructor(path: string, private readonly handlers: ReplaySocketHandlers) {
+    this.socket = new ReconnectingSocket(path, {
+      onState: (st) => handlers.onConnection(st),
+      onText: (text) => this.onText(text),
+      onBinary: (data) => {
+        try {
+          handlers.onFrame(parseFrameMessage(data));
+        } catch (e) {
+          handlers.onError('bad_frame', String(e instanceof Error ? e.message : e));
+        }
+      },
+      // 4xxx / 1008 (policy) from the server mean "this replay is gone": do not hammer it.
+      isFinal: (ev) => ev.code === 1008 || (ev.code >= 4000 && ev.code < 5000),
+    });
+  }
 
   open(): void {
-    this.closed = false;
-    this.connect();
+    this.socket.start();
   }
 
   close(): void {
-    this.closed = true;
-    window.clearTimeout(this.timer);
-    this.ws?.close();
-    this.ws = null;
+    this.socket.stop();
   }
 
   get isOpen(): boolean {
-    return this.ws?.readyState === WebSocket.OPEN;
+    return this.socket.isOpen;
   }
 
   send(op: ReplayOp): boolean {
-    if (!this.ws || this.ws.readyState !== WebSocket.OPEN) return false;
-    this.ws.send(JSON.stringify(op));
-    return true;
-  }
-
-  private connect() {
-    const url = new URL(this.path, window.location.href);
-    url.protocol = url.protocol === 'https:' ? 'wss:' : 'ws:';
-    this.handlers.onConnection('connecting');
-    const ws = new WebSocket(url);
-    ws.binaryType = 'arraybuffer';
-    this.ws = ws;
-    ws.onopen = () => {
-      this.retry = 0;
-      this.handlers.onConnection('open');
-    };
-    ws.onmessage = (ev) => {
-      if (this.ws !== ws) return;
-      if (ev.data instanceof ArrayBuffer) {
-        try {
-          this.handlers.onFrame(parseFrameMessage(ev.data));
-        } catch (e) {
-          this.handlers.onError('bad_frame', String(e instanceof Error ? e.message : e));
-        }
-        return;
-      }
-      if (typeof ev.data === 'string') this.onText(ev.data);
-    };
-    ws.onclose = (ev) => {
-      if (this.ws !== ws) return;
-      this.ws = null;
-      this.handlers.onConnection('closed');
-      // 4xxx / 1008 (policy) from the server mean "this replay is gone": do not hammer it.
-      if (this.closed || ev.code === 1008 || (ev.code >= 4000 && ev.code < 5000)) return;
-      const delay = Math.min(15000, 500 * 2 ** this.retry++);
-      this.timer = window.setTimeout(() => this.connect(), delay);
-    };
+    return this.socket.send(JSON.stringify(op));
   }
 
   private onText(text: string) {

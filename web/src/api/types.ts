@@ -1,4 +1,5 @@
-// Wire types of the TrailScope REST API and job WebSocket (see proto/ once it lands).
+// Wire types of the TrailScope REST API (proto/openapi.yaml) and of the job WebSocket: data sets, summaries,
+// flights, bundles and jobs.
 // Times are Unix seconds (UTC); distances and altitudes are metres unless a field says otherwise.
 
 export interface ApiErrorBody {

@@ -42,6 +42,11 @@ export function svg<K extends keyof SVGElementTagNameMap>(tag: K, attrs?: Attrs,
   return el;
 }
 
+/** A panel's heading row: the title (an h2) and whatever sits beside it (counts, buttons, a legend). */
+export function sectionHead(title: string, ...extras: Child[]): HTMLDivElement {
+  return h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, title), ...extras);
+}
+
 /** Replaces all children of el. */
 export function mount(el: Element, ...children: Child[]) {
   el.replaceChildren();

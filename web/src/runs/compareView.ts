@@ -8,7 +8,7 @@
 //  - the parameters that differ beside the results, the best result of each row marked.
 
 import type { Comparison, CompareSeries } from '../api/runsTypes';
-import { h, mount } from '../lib/dom';
+import { h, mount, sectionHead } from '../lib/dom';
 import { AxisSurface } from '../tracker/axisSurface';
 import { frameLeft, tickStep, xOfFrame } from '../tracker/frameAxis';
 import { STATE_COLORS, TEAT_COLORS, UNKNOWN_COLOR } from '../tracker/palette';
@@ -81,7 +81,7 @@ export class CompareView {
     this.root = h(
       'section',
       { class: 'runs-panel compare-panel', 'aria-label': 'Comparison of the selected runs', 'data-testid': 'compare', 'data-state': 'empty' },
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Comparison'), this.head),
+      sectionHead('Comparison', this.head),
       this.note,
       h(
         'div',

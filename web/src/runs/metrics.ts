@@ -1,5 +1,8 @@
 // The run-summary figures the dashboard shows, how to read them from a run row, how to format them, and
-// which direction is better.
+// which direction is better. The figures themselves are defined by the server's run summary: the accuracy
+// figures (accuracy.*) by compute/src/tracker/accuracy.cpp, the summary that holds them with track_share,
+// lost_episodes and tracker_fps by server/src/store/run_store.cpp. This list only gives them labels, units
+// and the better direction (metricDef falls back to the key itself for a figure not listed here).
 
 import type { RunRow } from '../api/runsTypes';
 

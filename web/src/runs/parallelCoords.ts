@@ -3,7 +3,7 @@
 // dimmed everywhere); click an axis or press Escape/Delete on it to clear its brush. Selected runs are
 // drawn on top, thick and opaque.
 
-import { h, mount, svg } from '../lib/dom';
+import { h, mount, sectionHead, svg } from '../lib/dom';
 import type { ColorScale } from './colorScale';
 import { formatNumber } from './metrics';
 import { axisX, valueAt, yOf, type PcAxis } from './parcoordsScale';
@@ -43,7 +43,7 @@ export class ParallelCoords {
     this.root = h(
       'section',
       { class: 'runs-panel pc-panel', 'aria-label': 'Parallel coordinates' },
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Parameters and results'), this.meta, selectFiltered, clear),
+      sectionHead('Parameters and results', this.meta, selectFiltered, clear),
       h('div', { class: 'pc-plot' }, this.svgEl),
       h('p', { class: 'hint' }, 'Drag along an axis to filter runs to an interval; click the axis (or Escape on it) to clear.'),
     );

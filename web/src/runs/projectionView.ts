@@ -3,7 +3,7 @@
 // Drag = rectangle brush, Alt-drag or the lasso mode = lasso; Shift adds to the selection; click a point =
 // select its run; Escape clears. Hover shows the run and its metric.
 
-import { cssContext, fitCanvas, h, mount } from '../lib/dom';
+import { cssContext, fitCanvas, h, mount, sectionHead } from '../lib/dom';
 import { cssGradient } from '../lib/colors';
 import type { ColorScale } from './colorScale';
 import { brushHits, fitPoints, nearest, normRect, type Fit, type Pt } from './geometry';
@@ -68,7 +68,7 @@ export class ProjectionView {
     this.root = h(
       'section',
       { class: 'runs-panel projection-panel', 'aria-label': 'Projection' },
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Projection'), controls),
+      sectionHead('Projection', controls),
       this.plot,
       h(
         'div',

@@ -3,7 +3,7 @@
 // (toggle) and shift-click (range from the last clicked run).
 
 import type { RunRow } from '../api/runsTypes';
-import { h, mount } from '../lib/dom';
+import { h, mount, sectionHead } from '../lib/dom';
 import type { ColorScale } from './colorScale';
 import { formatMetric, formatParam, metricValue, paramValue } from './metrics';
 import { clickSelect } from './selection';
@@ -84,10 +84,8 @@ export class RunsTable {
     this.root = h(
       'section',
       { class: 'runs-panel runs-table-panel', 'aria-label': 'Runs table' },
-      h(
-        'div',
-        { class: 'section-head' },
-        h('h2', { class: 'section-title' }, 'Runs'),
+      sectionHead(
+        'Runs',
         this.count,
         h('button', { class: 'btn btn-small', type: 'button', 'data-testid': 'runs-clear', onclick: () => this.opts.onSelect([]) }, 'Clear selection'),
       ),

@@ -8,7 +8,7 @@ import { ApiError, isAbort } from '../api/client';
 import { trackerApi } from '../api/replay';
 import { runsApi } from '../api/runs';
 import { PROJECTION_METHODS, type Comparison, type Projection, type ProjectionMethod, type RunRow, type Sweep } from '../api/runsTypes';
-import { debounce, h, mount } from '../lib/dom';
+import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { trackerHash } from '../tracker/route';
 import { colorScale, type ColorScale } from './colorScale';
 import { CompareView } from './compareView';
@@ -132,7 +132,7 @@ export class RunsView {
     const side = h(
       'aside',
       { class: 'runs-side panel' },
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Runs'), h('button', { class: 'btn btn-small', type: 'button', onclick: () => void this.reload() }, 'Reload')),
+      sectionHead('Runs', h('button', { class: 'btn btn-small', type: 'button', onclick: () => void this.reload() }, 'Reload')),
       h('label', { class: 'field' }, h('span', { class: 'field-label' }, 'Sweep'), this.sweepSelect),
       this.sweepInfo,
       h('label', { class: 'field' }, h('span', { class: 'field-label' }, 'Colour by'), this.metricSelect),

@@ -3,7 +3,7 @@
 // the candidate table, and the stage times.
 
 import { PAIR_NAMES, TEAT_NAMES, distance3, type FrameRecord, type FrameTruth } from '../api/trackerLog';
-import { h, mount } from '../lib/dom';
+import { h, mount, sectionHead } from '../lib/dom';
 import { STATE_COLORS, TEAT_COLORS } from './palette';
 
 const f1 = (v: number, d = 1) => (Number.isFinite(v) ? v.toFixed(d) : '–');
@@ -36,7 +36,7 @@ export class FrameData {
     this.root = h(
       'section',
       { class: 'tracker-panel frame-data', 'aria-label': 'Frame data', 'data-testid': 'frame-data', 'data-frame': '-1' },
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Frame data')),
+      sectionHead('Frame data'),
       this.body,
     );
   }

@@ -1,5 +1,5 @@
-// The URL hash of the two views: "#tracker" or "#tracker?replay=ID&video=V" shows the tracker dashboard;
-// anything else is the flight map dashboard (whose hash is its own query string).
+// The tracker dashboard's URL hash: "#tracker", "#tracker?replay=ID&video=V" or "#tracker?run=ID&frame=N"
+// (src/route.ts gives every other hash to the runs or the flight dashboard).
 
 export function isTrackerHash(hash: string): boolean {
   return /^#tracker(?:$|[?/&])/.test(hash);

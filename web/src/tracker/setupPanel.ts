@@ -2,7 +2,7 @@
 // from GET /api/v1/tracker/params; blank fields keep the server's defaults, only changed values are sent.
 
 import type { TrackerParam, Video } from '../api/trackerTypes';
-import { h, mount } from '../lib/dom';
+import { h, mount, sectionHead } from '../lib/dom';
 import { trackerHash } from './route';
 
 export interface SetupEvents {
@@ -48,7 +48,7 @@ export class SetupPanel {
     this.root = h(
       'div',
       { class: 'tracker-setup' },
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Replay')),
+      sectionHead('Replay'),
       h('div', { class: 'field' }, h('label', { class: 'field-label', for: 'tracker-video' }, 'Video'), this.videoSelect, this.videoInfo),
       h('div', { class: 'field' }, h('label', { class: 'field-label', for: 'tracker-colormap' }, 'Depth colours'), this.colormap),
       h('details', { class: 'tracker-params-details' }, h('summary', {}, 'Tracker parameters'), this.paramsBox),

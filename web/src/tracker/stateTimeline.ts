@@ -1,7 +1,7 @@
 // The model-state view: one column per frame coloured by the tracker state (blue TRACK, red LOST, grey
 // SEARCH; dark = not computed yet), with the current-frame cursor. Click or drag to seek.
 
-import { h, mount } from '../lib/dom';
+import { h, mount, sectionHead } from '../lib/dom';
 import { AxisSurface } from './axisSurface';
 import { frameLeft, tickStep, xOfFrame } from './frameAxis';
 import { CODE_STATE, type FrameStore } from './frameStore';
@@ -29,10 +29,8 @@ export class StateTimeline {
     this.root = h(
       'section',
       { class: 'tracker-panel state-timeline-panel', 'aria-label': 'State timeline' },
-      h(
-        'div',
-        { class: 'section-head' },
-        h('h2', { class: 'section-title' }, 'Model state'),
+      sectionHead(
+        'Model state',
         h('span', { class: 'legend' }, key('track', STATE_COLORS.TRACK), key('lost', STATE_COLORS.LOST), key('search', STATE_COLORS.SEARCH), this.counts),
       ),
       this.surface.root,

@@ -3,7 +3,7 @@
 // shares the frame axis and the cursor; clicking one seeks.
 
 import { TEAT_NAMES } from '../api/trackerLog';
-import { h } from '../lib/dom';
+import { h, sectionHead } from '../lib/dom';
 import { AxisSurface } from './axisSurface';
 import { xOfFrame } from './frameAxis';
 import type { FrameStore } from './frameStore';
@@ -50,10 +50,8 @@ export class Trajectories {
     this.root = h(
       'section',
       { class: 'tracker-panel trajectories', 'aria-label': 'Teat trajectories', 'data-testid': 'trajectories' },
-      h(
-        'div',
-        { class: 'section-head' },
-        h('h2', { class: 'section-title' }, 'Teat trajectories'),
+      sectionHead(
+        'Teat trajectories',
         h('span', { class: 'legend' }, ...toggles, h('span', { class: 'muted small' }, 'estimate solid · truth dashed')),
       ),
       ...ROWS.map((row, i) => h('div', { class: 'trajectory-row' }, h('span', { class: 'trajectory-label muted' }, row.label), this.surfaces[i]!.root)),

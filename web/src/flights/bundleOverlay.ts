@@ -1,9 +1,9 @@
 // The bundled polylines drawn on a canvas over the map, blended toward the raw trails on the client
-// (lib/tsbl.ts), so that the relaxation slider moves without a request. The canvas redraws on every map
+// (tsbl.ts), so that the relaxation slider moves without a request. The canvas redraws on every map
 // frame; the blend is recomputed only when the relaxation changes.
 
 import type * as maplibregl from 'maplibre-gl';
-import { type BlendSource, blendAt, planeToLonLat } from '../lib/tsbl';
+import { type BlendSource, blendAt, planeToLonLat } from './tsbl';
 import { h } from '../lib/dom';
 
 // Faint: thousands of trails overlap, and the bundles' structure shows where they accumulate.

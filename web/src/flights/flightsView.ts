@@ -1,23 +1,22 @@
-// Wires the store, the API and the views together.
+// The flight map dashboard: wires its store (state.ts), the API and its panels together.
 
-import { ApiError, api, isAbort } from './api/client';
-import { buildQuery, densityTileTemplate, parseFilters, parseRender, validateFilters } from './api/query';
-import { JobSocket } from './api/socket';
-import type { Dataset, FlightRow, Job, Summary } from './api/types';
-import { byId, debounce, h, mount } from './lib/dom';
+import { ApiError, api, isAbort } from '../api/client';
+import { buildQuery, densityTileTemplate, parseFilters, parseRender, validateFilters } from '../api/query';
+import { JobSocket } from '../api/socket';
+import type { Dataset, FlightRow, Job, Summary } from '../api/types';
+import { byId, debounce, h } from '../lib/dom';
 import { Store, type AppState } from './state';
-import { Controls } from './views/controls';
-import { ErrorSlots } from './views/errors';
-import { FlightCard } from './views/flightCard';
-import { FlightList } from './views/flights';
-import { JobsView } from './views/jobs';
-import { BundlePanel } from './views/bundlePanel';
-import { BundleOverlay } from './render/bundleOverlay';
-import { MapView } from './views/map';
-import { SummaryView } from './views/summary';
-import { TimeBrush } from './views/timeBrush';
-import { isTrackerHash } from './tracker/route';
-import { isRunsHash } from './runs/route';
+import { Controls } from './controls';
+import { ErrorSlots } from './errors';
+import { FlightCard } from './flightCard';
+import { FlightList } from './flightList';
+import { JobsView } from './jobs';
+import { BundlePanel } from './bundlePanel';
+import { BundleOverlay } from './bundleOverlay';
+import { MapView } from './map';
+import { SummaryView } from './summary';
+import { TimeBrush } from './timeBrush';
+import { dashboardOf } from '../route';
 
 const SUMMARY_BINS = 96;
 const PAGE_SIZE = 50;
@@ -59,7 +58,7 @@ function readHash(): { state: Partial<AppState>; extra: HashState } {
   };
 }
 
-export class App {
+export class FlightsView {
   private readonly store: Store;
   private readonly errors: ErrorSlots;
   private readonly map: MapView;
@@ -368,7 +367,7 @@ export class App {
       });
   }
 
-  /** The map view is shown again (after the tracker view): restore its URL and size. */
+  /** The map view is shown again (after the tracker or runs view): restore its URL and size. */
   show(): void {
     this.map.map.resize();
     this.syncHash();
@@ -376,7 +375,7 @@ export class App {
 
   private syncHash() {
     // The tracker and runs views own the URL while they are shown (#tracker…, #runs…).
-    if (isTrackerHash(window.location.hash) || isRunsHash(window.location.hash)) return;
+    if (dashboardOf(window.location.hash) !== 'map') return;
     const s = this.store.get();
     if (!s.datasetId) return;
     const q = buildQuery({ ...s.filters, bbox: null });
@@ -397,11 +396,4 @@ export class App {
 function spanOf(s: AppState) {
   const { t0, t1 } = s.filters;
   return t0 !== null && t1 !== null ? { start: t0, end: t1 } : null;
-}
-
-export function showFatal(err: unknown) {
-  const banner = document.getElementById('banner');
-  if (!banner) return;
-  mount(banner, `TrailScope failed to start: ${err instanceof Error ? err.message : String(err)}`);
-  banner.hidden = false;
 }

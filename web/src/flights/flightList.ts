@@ -1,7 +1,7 @@
-// The paged flight list. A row click selects the flight (its track is drawn by the app).
+// The paged flight list. A row click selects the flight (flightsView.ts loads and draws its track).
 
 import type { FlightPage, FlightRow } from '../api/types';
-import { h, mount } from '../lib/dom';
+import { h, mount, sectionHead } from '../lib/dom';
 import { formatFlightLevel, formatHoursMinutes, formatInt, formatUtc, formatUtcTime } from '../lib/format';
 
 export interface FlightListEvents {
@@ -22,7 +22,7 @@ export class FlightList {
     this.list = h('ol', { class: 'flight-list', 'data-testid': 'flight-list', 'aria-label': 'Flights' });
     this.list.addEventListener('keydown', (e) => this.onKey(e));
     root.append(
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Flights'), this.count),
+      sectionHead('Flights', this.count),
       h(
         'div',
         { class: 'flight-head', 'aria-hidden': 'true' },
@@ -44,18 +44,19 @@ export class FlightList {
   }
 
   setEmpty(message: string): void {
-    this.root.dataset.state = 'empty';
-    this.root.classList.remove('is-loading');
-    this.count.textContent = '';
-    mount(this.list, h('li', { class: 'empty' }, message));
-    mount(this.pager);
+    this.showMessage('empty', message);
   }
 
   setError(message: string): void {
-    this.root.dataset.state = 'error';
+    this.showMessage('error', message);
+  }
+
+  /** A message in place of the list (no count, no pager). */
+  private showMessage(state: 'empty' | 'error', message: string) {
+    this.root.dataset.state = state;
     this.root.classList.remove('is-loading');
     this.count.textContent = '';
-    mount(this.list, h('li', { class: 'empty error-text' }, message));
+    mount(this.list, h('li', { class: state === 'error' ? 'empty error-text' : 'empty' }, message));
     mount(this.pager);
   }
 

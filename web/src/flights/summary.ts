@@ -1,8 +1,8 @@
 // The summary panel: counts, time span, speed statistics, altitude histogram and top callsigns.
 
 import type { AltitudeHistogram, Summary } from '../api/types';
-import { h, mount, svg } from '../lib/dom';
-import { trimTail } from '../lib/histogram';
+import { h, mount, sectionHead, svg } from '../lib/dom';
+import { trimTail } from './histogram';
 import { formatCompact, formatDuration, formatInt, formatSpeed, formatUtc } from '../lib/format';
 
 export interface SummaryEvents {
@@ -26,7 +26,7 @@ export class SummaryView {
   constructor(private readonly root: HTMLElement, private readonly events: SummaryEvents) {
     this.meta = h('span', { class: 'section-meta', 'data-testid': 'summary-elapsed' });
     this.body = h('div', { class: 'summary-body' });
-    root.append(h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Summary'), this.meta), this.body);
+    root.append(sectionHead('Summary', this.meta), this.body);
     this.root.setAttribute('aria-busy', 'false');
     this.setEmpty('Pick a data set.');
   }

@@ -16,7 +16,7 @@ import {
   xToTime,
   type DragMode,
   type Span,
-} from '../lib/brush';
+} from './brush';
 import { h, svg, mount } from '../lib/dom';
 import { formatCompact, formatInt, formatUtc, formatUtcTime, formatWindow, formatDuration } from '../lib/format';
 

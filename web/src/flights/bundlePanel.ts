@@ -5,10 +5,10 @@
 import { ApiError, api, bundleTileTemplate, isAbort } from '../api/client';
 import { buildQuery } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
-import { debounce, h, mount } from '../lib/dom';
-import { blendSource, decodeTsbl } from '../lib/tsbl';
-import type { BundleOverlay } from '../render/bundleOverlay';
-import type { Store } from '../state';
+import { debounce, h, mount, sectionHead } from '../lib/dom';
+import { blendSource, decodeTsbl } from './tsbl';
+import type { BundleOverlay } from './bundleOverlay';
+import type { Store } from './state';
 import type { ErrorSlots } from './errors';
 import type { MapView } from './map';
 
@@ -91,7 +91,7 @@ export class BundlePanel {
     );
     const errorSlot = h('div', { id: 'bundle-error' });
     root.append(
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Bundling'), h('span', { class: 'section-meta' }, 'CUBu')),
+      sectionHead('Bundling', h('span', { class: 'section-meta' }, 'CUBu')),
       this.paramsBox,
       h('div', { class: 'bundle-actions' }, this.startBtn),
       errorSlot,

@@ -2,9 +2,9 @@
 
 import { COLORMAPS, DENSITY_HOWS, DENSITY_VALUES, EMPTY_FILTERS, normalizeBBox, type OnGround } from '../api/query';
 import type { Colormap, Dataset, DensityHow, DensityValue } from '../api/types';
-import type { AppState, Store } from '../state';
+import type { AppState, Store } from './state';
 import { COLORMAP_STOPS, cssGradient } from '../lib/colors';
-import { debounce, h, mount } from '../lib/dom';
+import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { formatCompact, formatInt, formatUtc } from '../lib/format';
 import type { ErrorSlots } from './errors';
 
@@ -79,31 +79,16 @@ export class Controls {
     this.altMin = altInput('alt-min', 'from', 'alt_min alt_unit');
     this.altMax = altInput('alt-max', 'to', 'alt_max alt_unit');
 
-    this.callsign = h('input', {
-      id: 'callsign',
-      type: 'search',
-      placeholder: 'AFR, BAW1*',
-      autocomplete: 'off',
-      spellcheck: 'false',
-      'data-testid': 'callsign',
-      'data-param': 'callsign',
-    });
-    const commitCs = debounce(() => store.setFilters({ callsign: this.callsign.value.trim() }), 350);
-    this.callsign.addEventListener('input', () => commitCs());
-    this.callsign.addEventListener('change', () => commitCs.flush());
-
-    this.icao24 = h('input', {
-      id: 'icao24',
-      type: 'search',
-      placeholder: '4ca7b5',
-      autocomplete: 'off',
-      spellcheck: 'false',
-      'data-testid': 'icao24',
-      'data-param': 'icao24',
-    });
-    const commitIcao = debounce(() => store.setFilters({ icao24: this.icao24.value.trim() }), 350);
-    this.icao24.addEventListener('input', () => commitIcao());
-    this.icao24.addEventListener('change', () => commitIcao.flush());
+    // A text filter: its value (trimmed) is committed 350 ms after typing stops, or at once on change.
+    const textFilter = (id: 'callsign' | 'icao24', placeholder: string) => {
+      const el = h('input', { id, type: 'search', placeholder, autocomplete: 'off', spellcheck: 'false', 'data-testid': id, 'data-param': id });
+      const commit = debounce(() => store.setFilters({ [id]: el.value.trim() }), 350);
+      el.addEventListener('input', () => commit());
+      el.addEventListener('change', () => commit.flush());
+      return el;
+    };
+    this.callsign = textFilter('callsign', 'AFR, BAW1*');
+    this.icao24 = textFilter('icao24', '4ca7b5');
 
     this.onGround = h(
       'select',
@@ -122,7 +107,7 @@ export class Controls {
     reset.addEventListener('click', () => store.set({ filters: { ...EMPTY_FILTERS }, useMapView: false }));
 
     filterRoot.append(
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Filters'), reset),
+      sectionHead('Filters', reset),
       h(
         'div',
         { class: 'field' },
@@ -162,7 +147,7 @@ export class Controls {
     this.cmap = select('density-cmap', COLORMAPS, CMAP_LABELS, 'cmap', (cmap) => store.setRender({ cmap }));
     this.legend = h('div', { class: 'legend' });
     renderRoot.append(
-      h('div', { class: 'section-head' }, h('h2', { class: 'section-title' }, 'Density')),
+      sectionHead('Density'),
       h(
         'div',
         { class: 'render-grid' },

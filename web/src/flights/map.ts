@@ -5,8 +5,8 @@ import workerUrl from 'maplibre-gl/dist/maplibre-gl-worker.mjs?url';
 import 'maplibre-gl/dist/maplibre-gl.css';
 import type { BBox, FlightFeature } from '../api/types';
 import { ApiError, errorFromResponse } from '../api/client';
-import { basemapStyle, loadBasemapData } from '../render/basemap';
-import { altitudeColorExpression, trackData } from '../render/track';
+import { basemapStyle, loadBasemapData } from './basemap';
+import { altitudeColorExpression, trackData } from './track';
 import { h } from '../lib/dom';
 
 maplibregl.setWorkerUrl(workerUrl);
@@ -186,23 +186,26 @@ export class MapView {
     this.template = template;
     this.tileErrorShown = false;
     this.showStatus(null);
-    this.container.dataset.densityTemplate = template ?? '';
-    this.container.dataset.densityLoaded = 'false';
-    this.container.dataset.idle = 'false';
-    const src = this.map.getSource(DENSITY) as maplibregl.RasterTileSource | undefined;
-    if (!src) return; // applied in addDataLayers once the style has loaded
-    if (template) src.setTiles([template]);
-    this.applyVisibility();
+    this.retarget(DENSITY, template);
   }
 
   /** Shows a bundle's tiles (null hides them). Unchanged templates do nothing. */
   setBundleTiles(template: string | null): void {
     if (template === this.bundleTemplate) return;
     this.bundleTemplate = template;
-    this.container.dataset.bundleTemplate = template ?? '';
-    this.container.dataset.bundleLoaded = 'false';
-    this.container.dataset.idle = 'false';
-    const src = this.map.getSource(BUNDLE) as maplibregl.RasterTileSource | undefined;
+    this.retarget(BUNDLE, template);
+  }
+
+  /**
+   * Points the raster source `source` (DENSITY or BUNDLE) at a new tile template and marks it not loaded
+   * (the container's data-{source}-template / -loaded, which the browser test waits on).
+   */
+  private retarget(source: typeof DENSITY | typeof BUNDLE, template: string | null) {
+    const ds = this.container.dataset;
+    ds[`${source}Template`] = template ?? '';
+    ds[`${source}Loaded`] = 'false';
+    ds.idle = 'false';
+    const src = this.map.getSource(source) as maplibregl.RasterTileSource | undefined;
     if (!src) return; // applied in addDataLayers once the style has loaded
     if (template) src.setTiles([template]);
     this.applyVisibility();

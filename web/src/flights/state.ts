@@ -1,7 +1,7 @@
-// Application state: one store, views subscribe and read what they need.
+// The flight dashboard's state: one store; its panels subscribe and read what they need.
 
-import type { BBox, Dataset } from './api/types';
-import { DEFAULT_RENDER, EMPTY_FILTERS, type Filters, type RenderOptions } from './api/query';
+import type { BBox, Dataset } from '../api/types';
+import { DEFAULT_RENDER, EMPTY_FILTERS, type Filters, type RenderOptions } from '../api/query';
 
 export interface AppState {
   datasets: Dataset[];

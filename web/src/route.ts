@@ -1,0 +1,12 @@
+// Which dashboard a URL hash shows: "#tracker…" the tracker (tracker/route.ts), "#runs…" the runs
+// dashboard (runs/route.ts), any other hash the flight map dashboard, whose hash is its own query string.
+
+import { isRunsHash } from './runs/route';
+import { isTrackerHash } from './tracker/route';
+
+/** The `data-view` of the top bar's tabs and of `#app`. */
+export type Dashboard = 'map' | 'tracker' | 'runs';
+
+export function dashboardOf(hash: string): Dashboard {
+  return isTrackerHash(hash) ? 'tracker' : isRunsHash(hash) ? 'runs' : 'map';
+}
