@@ -1,7 +1,7 @@
 #pragma once
 // Host code that the C++ references (compute/src/projection/*.cpp) and the OpenCL paths
-// (compute/src/ocl/projection_ocl.cpp) share: seeded random numbers, the block eigen-solver of MDS, the
-// Barnes-Hut quadtree of t-SNE, the t-SNE optimiser loop, and sign normalisation. Sharing them is what
+// (compute/src/projection/projection_ocl.cpp) share: seeded random numbers, the block eigen-solver of MDS,
+// the Barnes-Hut quadtree of t-SNE, the t-SNE optimiser loop, and sign normalisation. Sharing them is what
 // makes a reference-versus-OpenCL test compare the device products and nothing else.
 #include <algorithm>
 #include <cmath>

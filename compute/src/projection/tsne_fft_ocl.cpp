@@ -1,9 +1,9 @@
-// Host side of compute/kernels/projection_tsne_fft.cl (see ocl/tsne_fft_ocl.hpp). Per gradient: the
+// Host side of compute/kernels/projection_tsne_fft.cl (see projection/tsne_fft_ocl.hpp). Per gradient: the
 // host lays out the grid and sorts the points by box (O(N)); the device computes the attraction
 // (tsne_attract of projection_tsne.cl) and spreads the charges to the grid; the host convolves the grid
 // by FFT (float cv::dft: on PoCL the device is the same CPU, and on a GPU the grid, a few hundred KiB,
 // crosses the bus in tens of µs); the device gathers the potentials back to the points.
-#include "ocl/tsne_fft_ocl.hpp"
+#include "projection/tsne_fft_ocl.hpp"
 
 #include <algorithm>
 #include <cstdint>

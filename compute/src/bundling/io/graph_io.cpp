@@ -11,7 +11,7 @@
 #include <sstream>
 #include <utility>
 
-#include "bundling/graph_parse.hpp"
+#include "bundling/io/graph_parse.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 

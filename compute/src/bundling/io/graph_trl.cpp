@@ -8,7 +8,7 @@
 #include <cctype>
 #include <string>
 
-#include "bundling/graph_parse.hpp"
+#include "bundling/io/graph_parse.hpp"
 
 namespace trailscope::bundling::detail {
 namespace {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "bundling/render_detail.hpp"
+#include "bundling/render/render_detail.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/density/colormap.hpp"

@@ -1,13 +1,13 @@
 // Host side of compute/kernels/projection_*.cl (see trailscope/projection/projection.hpp for what each
-// method computes and ocl/ops.hpp for the contract of each function).
+// method computes and projection/projection_ocl.hpp for the contract of each function).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 #include <tbb/parallel_for.h>
 
-#include "ocl/ops.hpp"
 #include "projection/detail.hpp"
+#include "projection/projection_ocl.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/projection/projection.hpp"
 #ifdef TRAILSCOPE_HAVE_OPENCL

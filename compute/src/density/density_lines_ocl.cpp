@@ -1,5 +1,5 @@
 // Host side of compute/kernels/density_lines.cl (see density/density_lines.hpp for what it computes).
-#include "ocl/ops.hpp"
+#include "density/density_lines_ocl.hpp"
 
 #include <algorithm>
 
@@ -84,7 +84,7 @@ std::string density_lines_ocl(const density::LineSegments&, density::Aggregate&)
 }
 #endif
 
-void warm_up_ops() {
+void density_lines_warm_up() {
   // Zero-length segments on a 1×1 canvas, with and without values: both kernel variants. PoCL
   // specialises a kernel for the launch's grid as well as its work-group size: with a handful of
   // work-items here, the first real launch still compiled for ~0.1 s; with 2^17 it does not.
@@ -96,8 +96,6 @@ void warm_up_ops() {
     if (const std::string why = density_lines_ocl(s, out); !why.empty())
       throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of density_lines failed: " + why);
   }
-  bundle_warm_up();      // compute/src/ocl/bundle_ocl.cpp
-  projection_warm_up();  // compute/src/ocl/projection_ocl.cpp
 }
 
 }  // namespace trailscope::ocl
