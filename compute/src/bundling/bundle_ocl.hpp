@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "bundling/steps.hpp"
+#include "steps.hpp"  // relative: the step-by-step tests include this header by its path
 #include "trailscope/bundling/params.hpp"
 #include "trailscope/core/progress.hpp"
 
