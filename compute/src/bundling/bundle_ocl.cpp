@@ -491,17 +491,12 @@ class DeviceBundle {
 // Runs `body` on a fresh DeviceBundle; OpenCL errors become the reason the device cannot run.
 template <class Body>
 std::string with_device(Body&& body) {
-  std::string why;
-  const DeviceContext* ctx = device_context(&why);
-  if (!ctx) return "OpenCL unavailable: " + why;
-  if (std::string u = unsupported(*ctx); !u.empty()) return u;
-  try {
+  return run_on_device("bundle kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (std::string u = unsupported(*ctx); !u.empty()) return u;
     DeviceBundle dev(*ctx);
     body(dev);
-  } catch (const cl::Error& e) {
-    return "bundle kernel failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 }  // namespace

@@ -13,19 +13,16 @@ namespace trailscope::ocl {
 
 #ifdef TRAILSCOPE_HAVE_OPENCL
 std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate& out) {
-  std::string why;
-  const DeviceContext* ctx = device_context(&why);
-  if (!ctx) return "OpenCL unavailable: " + why;
-  if (s.with_value && !ctx->int64_atomics)
-    return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
-  const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
-  const std::size_t n = s.size();
-  if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes ||
-      n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
-    return "buffers exceed the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE";
+  return run_on_device("density_lines kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (s.with_value && !ctx->int64_atomics)
+      return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
+    const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+    const std::size_t n = s.size();
+    if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes ||
+        n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
+      return "buffers exceed the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE";
 
-  density::Aggregate a = density::Aggregate::zeros(s.width, s.height, s.with_value);
-  try {
+    density::Aggregate a = density::Aggregate::zeros(s.width, s.height, s.with_value);
     const cl::Context& context = ctx->context;
     const cl::CommandQueue& queue = ctx->queue;
     cl::Program prog = program("density_lines", s.with_value ? "-DWITH_VALUE=1" : "");
@@ -71,12 +68,10 @@ std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate
       queue.enqueueReadBuffer(value_sum, CL_TRUE, 0, pixels * sizeof(std::int64_t), a.value_sum.data());
       queue.enqueueReadBuffer(value_count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.value_count.data());
     }
-  } catch (const cl::Error& e) {
-    return "density_lines kernel failed: " + describe(e);
-  }
-  a.path = density::ComputePath::opencl;
-  out = std::move(a);
-  return {};
+    a.path = density::ComputePath::opencl;
+    out = std::move(a);
+    return {};
+  });
 }
 #else
 std::string density_lines_ocl(const density::LineSegments&, density::Aggregate&) {

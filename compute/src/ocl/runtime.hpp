@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace trailscope::ocl {
 
@@ -43,5 +44,22 @@ cl::Program program(const std::string& kernel_name, const std::string& options =
 
 /// "CL_OUT_OF_RESOURCES (-5) in clEnqueueNDRangeKernel" for a cl::Error.
 std::string describe(const cl::Error& e);
+
+/// The frame of every op's host entry point under the dispatch convention (ocl/dispatch.hpp): runs
+/// `body(ctx)` (a std::string(const DeviceContext*)) on the process's device and returns what it returns,
+/// "" when it ran or why it cannot run. Without a device: "OpenCL unavailable: <reason>"; when an OpenCL
+/// call throws cl::Error: "<what> failed: <error>" (a body writes its outputs after its last OpenCL call,
+/// so they stay untouched then). Other exceptions propagate.
+template <class Body>
+std::string run_on_device(std::string_view what, Body&& body) {
+  std::string why;
+  const DeviceContext* ctx = device_context(&why);
+  if (!ctx) return "OpenCL unavailable: " + why;
+  try {
+    return body(ctx);
+  } catch (const cl::Error& e) {
+    return std::string(what) + " failed: " + describe(e);
+  }
+}
 
 }  // namespace trailscope::ocl

@@ -137,59 +137,37 @@ class TsneFftDevice {
   std::vector<std::int32_t> order_h_, start_h_;
 };
 
-const DeviceContext* context_or(std::string& why) {
-  std::string reason;
-  const DeviceContext* ctx = device_context(&reason);
-  if (!ctx) why = "OpenCL unavailable: " + reason;
-  return ctx;
-}
-
 }  // namespace
 
 std::string tsne_fft_repulsion_ocl(const std::vector<double>& y, const projection::TsneFftOptions& f,
                                    std::vector<double>& terms) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("t-SNE FFT kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneFftDevice dev(ctx, y.size() / 2, nullptr, f);
     dev.compute(y);
     dev.terms(terms);
-  } catch (const cl::Error& e) {
-    return "t-SNE FFT kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string tsne_fft_gradient_ocl(const projection::Affinities& P, const std::vector<double>& y,
                                   double exaggeration, const projection::TsneFftOptions& f,
                                   std::vector<double>& grad) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("t-SNE FFT kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneFftDevice dev(ctx, P.rows, &P, f);
     dev.gradient(y, exaggeration, grad);
-  } catch (const cl::Error& e) {
-    return "t-SNE FFT kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string tsne_fft_optimize_ocl(const projection::Affinities& P, const projection::TsneOptions& o,
                                   std::vector<double>& y) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("t-SNE FFT kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneFftDevice dev(ctx, P.rows, &P, o.fft);
     projection::detail::tsne_optimize(
         y, P.rows, o,
         [&](const std::vector<double>& yy, double ex, std::vector<double>& g) { dev.gradient(yy, ex, g); });
-  } catch (const cl::Error& e) {
-    return "t-SNE FFT kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 #else
