@@ -55,13 +55,9 @@ std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate
         kernel.setArg(arg++, value_sum);
         kernel.setArg(arg++, value_count);
       }
-      // A fixed work-group size (64, or less where the device's limit for this kernel is lower): with
-      // NullRange PoCL picks one from the global size and compiles the kernel again for each new size
-      // (~0.1–0.2 s), i.e. for almost every tile. The kernel ignores the padding work-items (s >= n).
-      const std::size_t group =
-          std::min<std::size_t>(64, kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device));
-      queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
-                                 cl::NDRange(group));
+      // A fixed work-group size (ocl::launch): with NullRange PoCL would compile the kernel again for
+      // almost every tile.
+      launch(ctx, kernel, n);
     }
     queue.enqueueReadBuffer(count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.count.data());
     if (s.with_value) {

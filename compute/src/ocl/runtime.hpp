@@ -16,6 +16,7 @@
 #define CL_USE_DEPRECATED_OPENCL_1_2_APIS  // clCreateCommandQueue for 1.x platforms
 #include <CL/opencl.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -44,6 +45,18 @@ cl::Program program(const std::string& kernel_name, const std::string& options =
 
 /// "CL_OUT_OF_RESOURCES (-5) in clEnqueueNDRangeKernel" for a cl::Error.
 std::string describe(const cl::Error& e);
+
+/// Enqueues `k` over n work-items (none when n is 0) in work-groups of 64, or of the kernel's limit on
+/// this device if lower; the kernel ignores the padding work-items (id >= n). A fixed size rather than
+/// NullRange: PoCL compiles a kernel again for every new work-group size it picks (~0.1–0.2 s), and a
+/// GPU wants a multiple of its warp.
+inline void launch(const DeviceContext* ctx, cl::Kernel& k, std::size_t n) {
+  if (n == 0) return;
+  const std::size_t group = std::max<std::size_t>(
+      1, std::min<std::size_t>(64, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device)));
+  ctx->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
+                                  cl::NDRange(group));
+}
 
 /// The frame of every op's host entry point under the dispatch convention (ocl/dispatch.hpp): runs
 /// `body(ctx)` (a std::string(const DeviceContext*)) on the process's device and returns what it returns,

@@ -21,16 +21,6 @@ namespace {
 
 constexpr std::size_t kMaxGlobal = std::size_t{1} << 31;  // kernels index with int / size_t mixes
 
-// A fixed work-group size (64, or the kernel's limit if lower) rather than NullRange: PoCL compiles a
-// kernel again for every new work-group size it picks (see density_lines_ocl.cpp).
-void launch(const DeviceContext* ctx, cl::Kernel& k, std::size_t n) {
-  if (n == 0) return;
-  const std::size_t group = std::max<std::size_t>(
-      1, std::min<std::size_t>(64, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device)));
-  ctx->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
-                                  cl::NDRange(group));
-}
-
 cl::Buffer upload(const DeviceContext* ctx, const void* p, std::size_t bytes) {
   // COPY_HOST_PTR: read-only on the device, the host data stays untouched. A zero-sized buffer is
   // invalid in OpenCL, so empty inputs get one element.

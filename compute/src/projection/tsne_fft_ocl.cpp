@@ -22,16 +22,6 @@ namespace {
 
 constexpr std::size_t kMaxGlobal = std::size_t{1} << 31;
 
-// A fixed work-group size (64, or the kernel's limit if lower): PoCL compiles a kernel again for every
-// new work-group size, and a GPU wants a multiple of its warp.
-void launch(const DeviceContext* ctx, cl::Kernel& k, std::size_t n) {
-  if (n == 0) return;
-  const std::size_t group = std::max<std::size_t>(
-      1, std::min<std::size_t>(64, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device)));
-  ctx->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
-                                  cl::NDRange(group));
-}
-
 // A read-write buffer of at least `bytes`, reallocated (1.5×) only when it must grow.
 void reserve(const DeviceContext* ctx, cl::Buffer& b, std::size_t& cap, std::size_t bytes) {
   if (bytes <= cap && cap > 0) return;
