@@ -1,4 +1,4 @@
-// Distances for the projections (compute/src/ocl/projection_ocl.cpp): dense distance blocks, also the
+// Distances for the projections (compute/src/projection/projection_ocl.cpp): dense distance blocks, also the
 // tiles of the brute-force k nearest neighbours. OpenCL C 1.2, float only.
 
 // out[i·nb + j] = |a_i − b_j|² (or |a_i − b_j| with ROOT != 0), one work-item per pair; j varies

@@ -1,9 +1,10 @@
-// LAMP's orthogonal local map (Joia et al. 2011), one work-item per point (compute/src/ocl/
-// projection_ocl.cpp). With α_i = 1/|x_i − x|² (normalised to sum 1), x̃, ỹ the α-weighted means and
-// C = AᵀB (dims × 2, C_ck = Σ_i α_i (x_ic − x̃_c)(y_ik − ỹ_k)), the map U·Vᵀ of the SVD of C equals the
-// polar factor C·(CᵀC)^(−1/2), so y = ((x − x̃)ᵀ·C)·(CᵀC)^(−1/2) + ỹ needs only the 2-vector (x − x̃)ᵀC
-// and the 2×2 matrix CᵀC, accumulated column by column without storing C. Singular values of C below
-// 1e-3 of the largest are dropped (their direction is undefined), as the reference does.
+// LAMP's orthogonal local map (Joia et al. 2011), one work-item per point
+// (compute/src/projection/projection_ocl.cpp). With α_i = 1/|x_i − x|² (normalised to sum 1), x̃, ỹ
+// the α-weighted means and C = AᵀB (dims × 2, C_ck = Σ_i α_i (x_ic − x̃_c)(y_ik − ỹ_k)), the map U·Vᵀ
+// of the SVD of C equals the polar factor C·(CᵀC)^(−1/2), so y = ((x − x̃)ᵀ·C)·(CᵀC)^(−1/2) + ỹ needs
+// only the 2-vector (x − x̃)ᵀC and the 2×2 matrix CᵀC, accumulated column by column without storing C.
+// Singular values of C below 1e-3 of the largest are dropped (their direction is undefined), as the
+// reference does.
 // OpenCL C 1.2, float only.
 __kernel void lamp_map(__global const float* x, const int dims, const int first, const int count,
                        __global const float* cx, __global const float* cy, const int nc,

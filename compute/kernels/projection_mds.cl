@@ -1,4 +1,4 @@
-// Classical MDS products (compute/src/ocl/projection_ocl.cpp). OpenCL C 1.2, float only.
+// Classical MDS products (compute/src/projection/projection_ocl.cpp). OpenCL C 1.2, float only.
 
 // Row sums of the n×n squared-distance matrix (the host turns them into means in double).
 __kernel void row_sums(__global const float* d2, const int n, __global float* out) {

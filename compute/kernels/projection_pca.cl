@@ -1,4 +1,4 @@
-// PCA products (compute/src/ocl/projection_ocl.cpp). OpenCL C 1.2, float only.
+// PCA products (compute/src/projection/projection_ocl.cpp). OpenCL C 1.2, float only.
 
 // Scatter partials: work-item g = (chunk·dims + a)·dims + b sums (x_ra − μ_a)(x_rb − μ_b) over the rows
 // of its chunk; the host adds the chunks in double (float sums stay short: `rows_per_chunk` terms).

@@ -1,4 +1,4 @@
-// t-SNE gradient terms (compute/src/ocl/projection_ocl.cpp), in openTSNE's convention:
+// t-SNE gradient terms (compute/src/projection/projection_ocl.cpp), in openTSNE's convention:
 // gradient_i = exaggeration·attraction_i − repulsion_i / Z, with w_ij = 1 / (1 + |y_i − y_j|²).
 // OpenCL C 1.2, float only; the host sums Z in double.
 

@@ -1,4 +1,4 @@
-// FFT-interpolated t-SNE repulsion (FIt-SNE): the point↔grid steps of compute/src/ocl/tsne_fft_ocl.cpp,
+// FFT-interpolated t-SNE repulsion (FIt-SNE): the point↔grid steps of projection/tsne_fft_ocl.cpp,
 // mirroring the reference detail::FftRepulsion (compute/src/projection/tsne_fft.cpp). Coordinates u are
 // relative to the grid centre; the grid spans [lo, lo + boxes·h) on both axes, box b holds the p nodes
 // (b·p + k + ½)·h/p. Grids are m rows of l floats (or float pairs): the host's zero-padded FFT layout.

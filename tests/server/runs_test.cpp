@@ -36,7 +36,7 @@ TEST_F(RunsTest, ParameterList) {
   for (std::size_t i = 0; i < list.size(); ++i) {
     const auto& info = tracker::parameter_infos()[i];
     EXPECT_EQ(list[i]["name"], info.name);
-    EXPECT_EQ(list[i]["default"], info.default_value);
+    EXPECT_EQ(list[i]["default"], info.default_number);
     EXPECT_EQ(list[i]["min"], info.min);
     EXPECT_EQ(list[i]["max"], info.max);
     EXPECT_EQ(list[i]["integer"], info.integer);

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/rng.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 
@@ -14,15 +15,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// splitmix64: a small, well-mixed, seedable generator (the same seed gives the same forest everywhere).
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+// splitmix64 (core/rng.hpp): the same seed gives the same forest everywhere.
+struct Rng : rng::SplitMix64 {
+  using SplitMix64::SplitMix64;
   std::size_t below(std::size_t n) { return static_cast<std::size_t>(next() % n); }
 };
 

@@ -1,4 +1,4 @@
-// bundle(): the dispatch between the OpenCL loop (ocl/bundle_ocl.cpp) and the reference (steps.cpp),
+// bundle(): the dispatch between the OpenCL loop (bundle_ocl.cpp) and the reference (steps.cpp),
 // under the convention of ocl/dispatch.hpp (op name "bundle").
 //
 // When `auto` picks OpenCL: on a GPU or accelerator always; on a CPU device (PoCL) when the loop has at
@@ -33,7 +33,7 @@
 
 #include "bundling/result.hpp"
 #include "ocl/dispatch.hpp"
-#include "ocl/ops.hpp"
+#include "bundling/bundle_ocl.hpp"
 #include "trailscope/bundling/bundle.hpp"
 #include "trailscope/ocl_info.hpp"
 

@@ -1,8 +1,8 @@
 #pragma once
-// Directional bundling (research note §1.4, CUBu kernelAdvectSitesDirectional): instead of climbing the
-// density gradient, each point is pulled toward the points of other polylines near it that run the same
-// way and pushed away from those that run the opposite way, so that the two directions of a route form
-// two bundles. The reference here and the kernels in compute/kernels/bundle.cl give the same bits: only
+// Directional bundling (CUBu, IEEE TVCG 2016; the original code's kernelAdvectSitesDirectional): instead of
+// climbing the density gradient, each point is pulled toward the points of other polylines near it that run
+// the same way and pushed away from those that run the opposite way, so that the two directions of a route
+// form two bundles. The reference here and the kernels in compute/kernels/bundle.cl give the same bits: only
 // +, −, ×, ÷ and sqrt in double (the angle is a polynomial atan2, not the device's inexact atan2).
 // Private to compute/.
 #include "steps.hpp"

@@ -1,5 +1,6 @@
 #pragma once
-// Endpoint mean-shift clustering (research note §1.4, CUBu bundleEndpointsGPU). Private to compute/.
+// Endpoint mean-shift clustering (CUBu, IEEE TVCG 2016; the original code's bundleEndpointsGPU). Private to
+// compute/.
 #include "steps.hpp"
 
 namespace trailscope::bundling::detail {

@@ -3,23 +3,19 @@
 #include "trailscope/bundling/params.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <system_error>
+#include <utility>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 
 namespace trailscope::bundling {
 namespace {
-
-// Shortest text that reads back to the same double ("0.05", "32", "1e-07").
-std::string format_double(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
 std::string quoted(std::string_view s) {
   return "'" + std::string(s) + "'";
@@ -63,8 +59,9 @@ Field real(const char* name, double BundleParams::*m, double lo, double hi, bool
            const char* help) {
   const std::string range = (lo_open ? "(" : "[") + format_double(lo) + ", " + format_double(hi) + "]";
   Field f;
-  f.info = {name, "number", format_double(BundleParams{}.*m), range + (*unit ? std::string(" ") + unit : ""),
-            help};
+  f.info = describe_param(name, "number", format_double(BundleParams{}.*m),
+                          range + (*unit ? std::string(" ") + unit : ""), help);
+  f.info.unit = unit, f.info.default_number = BundleParams{}.*m, f.info.min = lo, f.info.max = hi;
   f.get = [m](const BundleParams& p) { return format_double(p.*m); };
   f.parse = [m, name](BundleParams& p, std::string_view t) { p.*m = parse_number(name, t); };
   f.check = [=](const BundleParams& p) -> std::string {
@@ -86,8 +83,10 @@ Field integer(const char* name, int BundleParams::*m, int lo, int hi, bool odd, 
            (*unit ? std::string(" ") + unit : "") + " (got " + std::to_string(v) + ")";
   };
   Field f;
-  f.info = {name, "integer", std::to_string(BundleParams{}.*m),
-            range + (odd ? ", odd" : "") + (*unit ? std::string(" ") + unit : ""), help};
+  f.info = describe_param(name, "integer", std::to_string(BundleParams{}.*m),
+                          range + (odd ? ", odd" : "") + (*unit ? std::string(" ") + unit : ""), help);
+  f.info.unit = unit, f.info.default_number = BundleParams{}.*m, f.info.min = lo, f.info.max = hi;
+  f.info.integer = true;
   f.get = [m](const BundleParams& p) { return std::to_string(p.*m); };
   f.parse = [=](BundleParams& p, std::string_view t) {
     const long long v = parse_integer(name, t);
@@ -103,10 +102,40 @@ Field integer(const char* name, int BundleParams::*m, int lo, int hi, bool odd, 
 
 Field boolean(const char* name, bool BundleParams::*m, const char* help) {
   Field f;
-  f.info = {name, "boolean", BundleParams{}.*m ? "true" : "false", "true, false", help};
+  f.info = describe_param(name, "boolean", BundleParams{}.*m ? "true" : "false", "true, false", help);
   f.get = [m](const BundleParams& p) { return std::string(p.*m ? "true" : "false"); };
   f.parse = [m, name](BundleParams& p, std::string_view t) { p.*m = parse_bool(name, t); };
   f.check = [](const BundleParams&) { return std::string(); };
+  return f;
+}
+
+// An enum member with two named values ("density must be weighted or count").
+template <class E>
+Field choice(const char* name, E BundleParams::*m, std::pair<const char*, E> first,
+             std::pair<const char*, E> second, const char* help) {
+  const std::array<std::pair<const char*, E>, 2> values = {first, second};
+  const std::string a = values[0].first, b = values[1].first;
+  const std::string must = std::string(name) + " must be " + a + " or " + b;
+  const auto text_of = [values](E e) -> std::string {
+    for (const auto& [t, v] : values)
+      if (v == e) return t;
+    return {};
+  };
+  Field f;
+  f.info = describe_param(name, "enum", text_of(BundleParams{}.*m), a + ", " + b, help);
+  f.get = [m, text_of, values](const BundleParams& p) {
+    const std::string t = text_of(p.*m);
+    return t.empty() ? std::string(values[0].first) : t;  // as to_string(): the first for a stray value
+  };
+  f.parse = [=](BundleParams& p, std::string_view t) {
+    for (const auto& [text, v] : values)
+      if (t == text) {
+        p.*m = v;
+        return;
+      }
+    throw invalid_argument(name, must + " (got " + quoted(t) + ")");
+  };
+  f.check = [=](const BundleParams& p) { return text_of(p.*m).empty() ? must : std::string(); };
   return f;
 }
 
@@ -131,8 +160,9 @@ const std::vector<Field>& fields() {
                      "random shift of each resampled point along its segment, fraction of spl"));
     {
       Field f;
-      f.info = {"seed", "integer", "1", "0..18446744073709551615",
-                "jitter seed: the same input, parameters and seed give the same result"};
+      f.info = describe_param("seed", "integer", "1", "0..18446744073709551615",
+                              "jitter seed: the same input, parameters and seed give the same result");
+      f.info.default_number = 1, f.info.max = 18446744073709551615.0, f.info.integer = true;
       f.get = [](const BundleParams& p) { return std::to_string(p.seed); };
       f.parse = [](BundleParams& p, std::string_view t) {
         std::uint64_t v = 0;
@@ -144,46 +174,12 @@ const std::vector<Field>& fields() {
       f.check = [](const BundleParams&) { return std::string(); };
       v.push_back(std::move(f));
     }
-    {
-      Field f;
-      f.info = {"density", "enum", "weighted", "weighted, count",
-                "splat weight of a point: its edge's length / the longest edge's (weighted) or 1 (count)"};
-      f.get = [](const BundleParams& p) { return std::string(to_string(p.density)); };
-      f.parse = [](BundleParams& p, std::string_view t) {
-        if (t == "weighted")
-          p.density = DensityMode::weighted;
-        else if (t == "count")
-          p.density = DensityMode::count;
-        else
-          throw invalid_argument("density", "density must be weighted or count (got " + quoted(t) + ")");
-      };
-      f.check = [](const BundleParams& p) {
-        return p.density == DensityMode::weighted || p.density == DensityMode::count
-                   ? std::string()
-                   : std::string("density must be weighted or count");
-      };
-      v.push_back(std::move(f));
-    }
-    {
-      Field f;
-      f.info = {"profile", "enum", "uniform", "uniform, hourglass",
-                "how strongly points move along an edge: everywhere alike, or less near the ends"};
-      f.get = [](const BundleParams& p) { return std::string(to_string(p.profile)); };
-      f.parse = [](BundleParams& p, std::string_view t) {
-        if (t == "uniform")
-          p.profile = Profile::uniform;
-        else if (t == "hourglass")
-          p.profile = Profile::hourglass;
-        else
-          throw invalid_argument("profile", "profile must be uniform or hourglass (got " + quoted(t) + ")");
-      };
-      f.check = [](const BundleParams& p) {
-        return p.profile == Profile::uniform || p.profile == Profile::hourglass
-                   ? std::string()
-                   : std::string("profile must be uniform or hourglass");
-      };
-      v.push_back(std::move(f));
-    }
+    v.push_back(choice<DensityMode>(
+        "density", &BundleParams::density, {"weighted", DensityMode::weighted}, {"count", DensityMode::count},
+        "splat weight of a point: its edge's length / the longest edge's (weighted) or 1 (count)"));
+    v.push_back(choice<Profile>(
+        "profile", &BundleParams::profile, {"uniform", Profile::uniform}, {"hourglass", Profile::hourglass},
+        "how strongly points move along an edge: everywhere alike, or less near the ends"));
     v.push_back(boolean("block_endpoints", &BundleParams::block_endpoints, "edge endpoints never move"));
     v.push_back(boolean("polyline_style", &BundleParams::polyline_style,
                         "resample only in the first iteration (keeps trails' own sampling)"));

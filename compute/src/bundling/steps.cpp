@@ -11,18 +11,12 @@
 #include <limits>
 #include <string>
 
+#include "core/rng.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 
 namespace trailscope::bundling::detail {
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 double seg_length(const Points& p, std::size_t k) {
   const double dx = static_cast<double>(p.x[k + 1]) - static_cast<double>(p.x[k]);
@@ -114,9 +108,9 @@ int smooth_window(const BundleParams& p) {
 }
 
 double jitter_unit(std::uint64_t seed, std::uint32_t iteration, std::uint32_t edge, std::uint64_t sample) {
-  std::uint64_t u = splitmix64(seed ^ (static_cast<std::uint64_t>(iteration) << 40));
-  u = splitmix64(u ^ edge);
-  u = splitmix64(u ^ sample);
+  std::uint64_t u = rng::splitmix64_hash(seed ^ (static_cast<std::uint64_t>(iteration) << 40));
+  u = rng::splitmix64_hash(u ^ edge);
+  u = rng::splitmix64_hash(u ^ sample);
   return static_cast<double>(u >> 11) * 0x1p-52 - 1.0;  // 53 bits: exact, in [−1, 1)
 }
 

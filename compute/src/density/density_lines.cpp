@@ -26,7 +26,7 @@
 #include <limits>
 
 #include "ocl/dispatch.hpp"
-#include "ocl/ops.hpp"
+#include "density/density_lines_ocl.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/geo/web_mercator.hpp"

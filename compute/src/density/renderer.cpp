@@ -156,6 +156,8 @@ SpanStats level_span(const SpanStats& coarse, DensityValue value, const SpanPlan
   return rescale_span(coarse, count ? plan.shrink : 1.0, count && kernel_radius == 0 ? 1.0 : -1e300);
 }
 
+// %.17g, not the shortest text of core/text.hpp: this is part of the tile cache key, and a different
+// spelling of the same number would orphan every cached tile.
 std::string gap_text(double g) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", g);

@@ -5,17 +5,11 @@
 #include <string>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 #include "trailscope/dmd/dmd.hpp"
 
 namespace trailscope::dmd {
 namespace {
-
-// Shortest text that reads back to the same double ("0.001", "20").
-std::string fmt(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
 struct Range {
   const char* name;
@@ -27,13 +21,13 @@ constexpr Range kIsland{"island", 0, 0.1};
 constexpr Range kSaliency{"saliency", 0, 100};
 
 std::string range_text(const Range& r) {
-  return "[" + fmt(r.lo) + ", " + fmt(r.hi) + "]";
+  return "[" + format_double(r.lo) + ", " + format_double(r.hi) + "]";
 }
 
 void check(const Range& r, double v) {
   if (!(std::isfinite(v) && v >= r.lo && v <= r.hi))
-    throw invalid_argument(r.name,
-                           std::string(r.name) + " must be in " + range_text(r) + " (got " + fmt(v) + ")");
+    throw invalid_argument(
+        r.name, std::string(r.name) + " must be in " + range_text(r) + " (got " + format_double(v) + ")");
 }
 
 }  // namespace
@@ -50,19 +44,31 @@ void DmdParams::validate() const {
 const std::vector<ParamInfo>& parameter_infos() {
   static const std::vector<ParamInfo> infos = [] {
     const DmdParams d;
+    // The numeric parameters also carry their range and default as numbers.
+    const auto numeric = [](ParamInfo i, const Range& r, double def, bool integer) {
+      i.default_number = def, i.min = r.lo, i.max = r.hi, i.integer = integer;
+      return i;
+    };
     return std::vector<ParamInfo>{
-        {kLayers.name, "integer", std::to_string(d.layers), range_text(kLayers),
-         "threshold layers including the canvas; 20-40 is DMD's usual range"},
-        {"selection", "enum", to_string(d.selection), "cumulative | local_maxima",
-         "how layer levels are picked from the histogram"},
-        {kMinGap.name, "integer", std::to_string(d.min_gap), range_text(kMinGap) + " grey levels",
-         "smallest difference between two layer levels (distinguishable interval)"},
-        {kIsland.name, "number", fmt(d.island), range_text(kIsland) + " of the image area",
-         "islands and holes smaller than this are removed from each layer"},
-        {kSaliency.name, "number", fmt(d.saliency), range_text(kSaliency),
-         "skeleton salience threshold (collapsed boundary length / distance to the boundary); 0 = exact"},
-        {"interpolate", "boolean", d.interpolate ? "true" : "false", "true | false",
-         "ramp between consecutive layers instead of flat bands"},
+        numeric(describe_param(kLayers.name, "integer", std::to_string(d.layers), range_text(kLayers),
+                               "threshold layers including the canvas; 20-40 is DMD's usual range"),
+                kLayers, d.layers, true),
+        describe_param("selection", "enum", to_string(d.selection), "cumulative | local_maxima",
+                       "how layer levels are picked from the histogram"),
+        numeric(describe_param(kMinGap.name, "integer", std::to_string(d.min_gap),
+                               range_text(kMinGap) + " grey levels",
+                               "smallest difference between two layer levels (distinguishable interval)"),
+                kMinGap, d.min_gap, true),
+        numeric(describe_param(kIsland.name, "number", format_double(d.island),
+                               range_text(kIsland) + " of the image area",
+                               "islands and holes smaller than this are removed from each layer"),
+                kIsland, d.island, false),
+        numeric(describe_param(kSaliency.name, "number", format_double(d.saliency), range_text(kSaliency),
+                               "skeleton salience threshold (collapsed boundary length / distance to the "
+                               "boundary); 0 = exact"),
+                kSaliency, d.saliency, false),
+        describe_param("interpolate", "boolean", d.interpolate ? "true" : "false", "true | false",
+                       "ramp between consecutive layers instead of flat bands"),
     };
   }();
   return infos;

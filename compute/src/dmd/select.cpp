@@ -1,4 +1,5 @@
-// Layer selection from the histogram (DMD keeps only "relevant" threshold sets; research note §2.3).
+// Layer selection from the histogram (DMD keeps only "relevant" threshold sets: van der Zwan, Meiburg, Telea,
+// VISAPP 2013).
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>

@@ -21,6 +21,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/rng.hpp"
 #include "ingest/detail.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/trails/trail_set_builder.hpp"
@@ -34,37 +35,12 @@ using detail::kKnot;
 
 // --- deterministic random numbers (own algorithms: std:: distributions differ between libraries) ----------
 
-std::uint64_t splitmix64(std::uint64_t& x) {
-  std::uint64_t z = (x += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-// xoshiro256** (Blackman & Vigna), seeded through splitmix64 as its authors recommend.
-class Rng {
+// xoshiro256** seeded through splitmix64 (core/rng.hpp).
+class Rng : public rng::Xoshiro256ss {
  public:
-  Rng() : Rng(0) {}
-  explicit Rng(std::uint64_t seed) {
-    for (auto& v : s_) v = splitmix64(seed);
-  }
-  std::uint64_t next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0], s_[3] ^= s_[1], s_[1] ^= s_[2], s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
-  /// Uniform in [0, 1).
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double a, double b) { return a + (b - a) * uniform(); }
+  using Xoshiro256ss::Xoshiro256ss;
   /// Uniform integer in [a, b].
   int integer(int a, int b) { return a + static_cast<int>(uniform() * (b - a + 1)); }
-
- private:
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  std::array<std::uint64_t, 4> s_;
 };
 
 // Index into a cumulative weight table for a uniform u in [0, 1).
@@ -407,7 +383,7 @@ TrailSet generate_demo_traffic(const DemoOptions& opts, ProgressFn progress) {
     airline_cumulative.push_back((airline_cumulative.empty() ? 0 : airline_cumulative.back()) + a.share);
 
   std::uint64_t icao_seed = opts.seed ^ 0x5bd1e9955bd1e995ull;
-  const std::uint64_t icao_offset = splitmix64(icao_seed) % kIcaoCount;
+  const std::uint64_t icao_offset = rng::splitmix64(icao_seed) % kIcaoCount;
 
   // One flight, drawn from its own RNG: identity, route, schedule, and the model that produces its samples.
   // Constructing it twice for the same index gives the same flight (the two passes below rely on this).

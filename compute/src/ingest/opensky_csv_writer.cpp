@@ -1,5 +1,5 @@
-// OpenSky CSV writer. Shortest round-trip number formatting (std::to_chars without precision) keeps the
-// file small and makes write → ingest exact.
+// OpenSky CSV writer. Shortest round-trip number formatting (core/text.hpp) keeps the file small and
+// makes write → ingest exact.
 #include "trailscope/ingest/opensky_csv_writer.hpp"
 
 #include <zlib.h>
@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 #include "trailscope/ingest/reject.hpp"
 
 namespace trailscope::ingest {
@@ -58,12 +59,8 @@ class Sink {
   std::FILE* file_ = nullptr;
 };
 
-template <class T>
-void put_number(std::string& out, T v) {
-  if (std::isnan(v)) return;  // unknown → empty field
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
+void put_number(std::string& out, float v) {
+  if (!std::isnan(v)) append_shortest(out, v);  // unknown → empty field
 }
 
 }  // namespace
@@ -84,7 +81,7 @@ void write_opensky_csv(const TrailSet& set, const std::string& path, bool gzip) 
     out += kOpenSkyCsvHeader;
     out += '\n';
     const PointColumns& p = set.points();
-    char tbuf[32];
+    std::string time;
     std::string callsign;
     for (const Flight& f : flights) {
       // Callsigns are A-Z0-9 in practice; quote anything that would break the row.
@@ -95,8 +92,8 @@ void write_opensky_csv(const TrailSet& set, const std::string& path, bool gzip) 
         callsign = q + "\"";
       }
       for (std::uint32_t i = f.begin; i < f.end; ++i) {
-        const auto tr = std::to_chars(tbuf, tbuf + sizeof tbuf, p.t[i]);
-        const std::string_view time(tbuf, tr.ptr - tbuf);
+        time.clear();
+        append_shortest(time, p.t[i]);
         out += time;
         out += ',';
         out += f.icao24;

@@ -26,8 +26,9 @@ inline const char* to_string(Path p) {
 
 /// True when a usable device exists (initialises the runtime on first use). Never throws.
 bool available() noexcept;
-/// True when the device is a GPU or an accelerator (the only devices `auto` considers; see
-/// density_lines.cpp for the measurement behind that).
+/// True when the device is a GPU or an accelerator: the only devices `auto` considers, since on a CPU
+/// device (PoCL) the kernels' atomics are locked read-modify-writes and measured slower than the C++
+/// references, which sum private per-thread grids.
 bool device_is_gpu() noexcept;
 /// Why OpenCL is unavailable ("" when it is available).
 std::string unavailable_reason();

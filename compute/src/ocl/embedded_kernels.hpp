@@ -7,7 +7,7 @@
 namespace trailscope::ocl {
 
 struct EmbeddedKernel {
-  const char* name;    ///< file name without ".cl", e.g. "density_lines"
+  const char* name;    ///< file name without ".cl", as in compute/kernels/
   const char* source;  ///< OpenCL C 1.2 source text
   const char* md5;     ///< hex MD5 of the .cl file
 };

@@ -1,4 +1,5 @@
-// Implements trailscope/ocl_info.hpp and the non-template parts of ocl/dispatch.hpp. Compiles without
+// Implements trailscope/ocl_info.hpp (but opencl_warm_up(), compute/src/opencl_warm_up.cpp, which runs
+// the ops' warm-ups) and the non-template parts of ocl/dispatch.hpp. Compiles without
 // OpenCL too (TRAILSCOPE_WITH_OPENCL=OFF), where the backend simply reports itself unavailable.
 #include "trailscope/ocl_info.hpp"
 
@@ -7,7 +8,6 @@
 #include <mutex>
 
 #include "ocl/dispatch.hpp"
-#include "ocl/ops.hpp"
 #include "trailscope/core/error.hpp"
 #ifdef TRAILSCOPE_HAVE_OPENCL
 #include "ocl/runtime.hpp"
@@ -50,16 +50,6 @@ OpenClInfo opencl_info() {
 
 bool opencl_available() {
   return ocl::available();
-}
-
-void opencl_warm_up() {
-#ifdef TRAILSCOPE_HAVE_OPENCL
-  std::string why;
-  if (!ocl::device_context(&why)) throw Error(Error::Kind::backend, "backend", "OpenCL unavailable: " + why);
-  ocl::warm_up_ops();
-#else
-  throw Error(Error::Kind::backend, "backend", "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)");
-#endif
 }
 
 OpPathStats op_path_stats(std::string_view op) {

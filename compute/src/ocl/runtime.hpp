@@ -16,8 +16,10 @@
 #define CL_USE_DEPRECATED_OPENCL_1_2_APIS  // clCreateCommandQueue for 1.x platforms
 #include <CL/opencl.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace trailscope::ocl {
 
@@ -43,5 +45,34 @@ cl::Program program(const std::string& kernel_name, const std::string& options =
 
 /// "CL_OUT_OF_RESOURCES (-5) in clEnqueueNDRangeKernel" for a cl::Error.
 std::string describe(const cl::Error& e);
+
+/// Enqueues `k` over n work-items (none when n is 0) in work-groups of 64, or of the kernel's limit on
+/// this device if lower; the kernel ignores the padding work-items (id >= n). A fixed size rather than
+/// NullRange: PoCL compiles a kernel again for every new work-group size it picks (~0.1–0.2 s), and a
+/// GPU wants a multiple of its warp.
+inline void launch(const DeviceContext* ctx, cl::Kernel& k, std::size_t n) {
+  if (n == 0) return;
+  const std::size_t group = std::max<std::size_t>(
+      1, std::min<std::size_t>(64, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device)));
+  ctx->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
+                                  cl::NDRange(group));
+}
+
+/// The frame of every op's host entry point under the dispatch convention (ocl/dispatch.hpp): runs
+/// `body(ctx)` (a std::string(const DeviceContext*)) on the process's device and returns what it returns,
+/// "" when it ran or why it cannot run. Without a device: "OpenCL unavailable: <reason>"; when an OpenCL
+/// call throws cl::Error: "<what> failed: <error>" (a body writes its outputs after its last OpenCL call,
+/// so they stay untouched then). Other exceptions propagate.
+template <class Body>
+std::string run_on_device(std::string_view what, Body&& body) {
+  std::string why;
+  const DeviceContext* ctx = device_context(&why);
+  if (!ctx) return "OpenCL unavailable: " + why;
+  try {
+    return body(ctx);
+  } catch (const cl::Error& e) {
+    return std::string(what) + " failed: " + describe(e);
+  }
+}
 
 }  // namespace trailscope::ocl

@@ -1,7 +1,7 @@
 #pragma once
 // Host code that the C++ references (compute/src/projection/*.cpp) and the OpenCL paths
-// (compute/src/ocl/projection_ocl.cpp) share: seeded random numbers, the block eigen-solver of MDS, the
-// Barnes-Hut quadtree of t-SNE, the t-SNE optimiser loop, and sign normalisation. Sharing them is what
+// (compute/src/projection/projection_ocl.cpp) share: seeded random numbers, the block eigen-solver of MDS,
+// the Barnes-Hut quadtree of t-SNE, the t-SNE optimiser loop, and sign normalisation. Sharing them is what
 // makes a reference-versus-OpenCL test compare the device products and nothing else.
 #include <algorithm>
 #include <cmath>
@@ -11,31 +11,21 @@
 #include <string>
 #include <vector>
 
+#include "core/rng.hpp"
 #include "trailscope/core/progress.hpp"
 #include "trailscope/projection/projection.hpp"
 
 namespace trailscope::projection::detail {
 
-/// splitmix64: a small generator whose sequence is the same on every platform (std::*_distribution is
-/// not), so a seed gives the same projection everywhere.
-class Rng {
+/// splitmix64 (core/rng.hpp) started at seed ^ kGolden, so a seed gives the same projection everywhere.
+class Rng : public rng::SplitMix64 {
  public:
-  explicit Rng(std::uint64_t seed) : s_(seed ^ 0x9E3779B97F4A7C15ull) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  ///< [0, 1)
+  explicit Rng(std::uint64_t seed) : SplitMix64(seed ^ rng::kGolden) {}
   std::size_t below(std::size_t n) { return static_cast<std::size_t>(uniform() * static_cast<double>(n)); }
   double normal() {  ///< Box–Muller
     const double u = 1.0 - uniform(), v = uniform();
     return std::sqrt(-2.0 * std::log(u)) * std::cos(6.283185307179586 * v);
   }
-
- private:
-  std::uint64_t s_;
 };
 
 /// k distinct indices of [0, n), ascending (partial Fisher–Yates).

@@ -9,7 +9,7 @@
 #include <numeric>
 
 #include "ocl/dispatch.hpp"
-#include "ocl/ops.hpp"
+#include "projection/projection_ocl.hpp"
 #include "projection/detail.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"

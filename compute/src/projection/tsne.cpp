@@ -8,8 +8,8 @@
 #include <numeric>
 
 #include "ocl/dispatch.hpp"
-#include "ocl/ops.hpp"
-#include "ocl/tsne_fft_ocl.hpp"
+#include "projection/projection_ocl.hpp"
+#include "projection/tsne_fft_ocl.hpp"
 #include "projection/detail.hpp"
 #include "projection/tsne_fft.hpp"
 #include "trailscope/core/error.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "ocl/dispatch.hpp"
-#include "ocl/tsne_fft_ocl.hpp"
+#include "projection/tsne_fft_ocl.hpp"
 #include "projection/detail.hpp"
 #include "trailscope/core/error.hpp"
 

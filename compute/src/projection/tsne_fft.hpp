@@ -1,7 +1,7 @@
 #pragma once
 // FFT-accelerated interpolation of the t-SNE repulsion (FIt-SNE; see TsneFftOptions in projection.hpp),
 // the host parts shared by the C++ reference (tsne_fft.cpp) and the OpenCL path
-// (compute/src/ocl/tsne_fft_ocl.cpp): the grid layout, the Lagrange weights, the sort of the points by
+// (compute/src/projection/tsne_fft_ocl.cpp): the grid layout, the Lagrange weights, the sort of the points by
 // box and the grid convolution by FFT.
 //
 // Layout: boxes × boxes square boxes of side h cover the bounding square of the points; box b spans

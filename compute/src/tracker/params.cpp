@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 
 namespace trailscope::tracker {
 namespace {
@@ -16,14 +17,29 @@ struct Row {
   int TrackerParams::*i = nullptr;
 };
 
+// Every parameter is numeric: the text fields say the same as the numbers.
+ParamInfo numeric(std::string name, std::string unit, double def, double lo, double hi, bool integer,
+                  std::string help) {
+  std::string range = "[";
+  append_shortest(range, lo);
+  range += ", ";
+  append_shortest(range, hi);
+  range += ']';
+  if (!unit.empty()) range += ' ' + unit;
+  ParamInfo i = describe_param(std::move(name), integer ? "integer" : "number", format_double(def),
+                               std::move(range), std::move(help));
+  i.unit = std::move(unit), i.default_number = def, i.min = lo, i.max = hi, i.integer = integer;
+  return i;
+}
+
 Row real(std::string name, std::string unit, double TrackerParams::*m, double lo, double hi,
          std::string help) {
-  return {{std::move(name), std::move(unit), TrackerParams{}.*m, lo, hi, false, std::move(help)}, m, nullptr};
+  return {numeric(std::move(name), std::move(unit), TrackerParams{}.*m, lo, hi, false, std::move(help)), m,
+          nullptr};
 }
 Row whole(std::string name, std::string unit, int TrackerParams::*m, double lo, double hi, std::string help) {
-  return {{std::move(name), std::move(unit), double(TrackerParams{}.*m), lo, hi, true, std::move(help)},
-          nullptr,
-          m};
+  return {numeric(std::move(name), std::move(unit), TrackerParams{}.*m, lo, hi, true, std::move(help)),
+          nullptr, m};
 }
 
 const std::vector<Row>& rows() {
@@ -76,6 +92,8 @@ double value_of(const TrackerParams& p, const Row& r) {
   return r.d ? p.*(r.d) : double(p.*(r.i));
 }
 
+// Messages print numbers as std::ostream does (6 significant digits), not core/text.hpp's shortest
+// round-trip text: the API's and CLI's error messages are kept as they are.
 std::string fmt(double v) {
   std::ostringstream os;
   os << v;

@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/rng.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 
@@ -23,17 +24,8 @@ std::string num(double v) {
   return os.str();
 }
 
-// splitmix64, as everywhere a seeded stream must give the same points on every machine.
-struct Rng {
-  std::uint64_t s;
-  double uniform() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return double(z >> 11) * 0x1.0p-53;
-  }
-};
+// splitmix64 (core/rng.hpp), as everywhere a seeded stream must give the same points on every machine.
+using Rng = rng::SplitMix64;
 
 bool valid(const TrackerParams& p) {
   try {

@@ -1,6 +1,7 @@
 // Tracker logs <-> protobuf (proto/tracker_log.proto, documented in proto/tracker_log.md). The C++
 // types stay free of protobuf; this TU is the only one that converts, and it includes no OpenImageIO
-// header (the two clash in one TU, toolchain.md quirk 4). JSON is protobuf's own canonical mapping, so
+// header (in one TU they clash: OpenImageIO's farmhash.h #undefs glibc's bswap_32/bswap_64, which
+// protobuf's stubs/port.h then fails to find). JSON is protobuf's own canonical mapping, so
 // the JSON files, frame_to_json and header_to_json can never drift apart.
 #include "tracker_log.pb.h"
 

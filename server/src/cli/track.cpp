@@ -35,10 +35,10 @@ std::string number_text(double x) {
 }
 
 /// "[mm, 0..5000, default 80]": what --help shows for every tracker parameter.
-std::string range_text(const tracker::ParamInfo& info) {
+std::string range_text(const ParamInfo& info) {
   return "[" + (info.unit.empty() ? std::string() : info.unit + ", ") + number_text(info.min) + ".." +
          number_text(info.max) + (info.integer ? ", whole" : "") + ", default " +
-         number_text(info.default_value) + "]";
+         number_text(info.default_number) + "]";
 }
 
 /// Runs `f`, turning an invalid_argument about a tracker parameter or the frame range into one that names

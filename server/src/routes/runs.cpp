@@ -27,7 +27,7 @@ Response tracker_params(App&, const Request& req, const PathParams&) {
   for (const auto& i : tracker::parameter_infos())
     list.push_back({{"name", i.name},
                     {"unit", i.unit},
-                    {"default", i.default_value},
+                    {"default", i.default_number},
                     {"min", i.min},
                     {"max", i.max},
                     {"integer", i.integer},

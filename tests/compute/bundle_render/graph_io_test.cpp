@@ -43,7 +43,7 @@ struct Expected {
   std::size_t edges, nodes, points_each, skipped;
 };
 
-// Counts from shared/data/bundling/SOURCES.md ("verified counts").
+// Counts from the data set's manifest, $TRAILSCOPE_SHARED/data/bundling/SOURCES.md ("verified counts").
 const Expected kFiles[] = {
     {"classic/airlines.xml", GraphFormat::graphml, 2101, 235, 2, 0},
     {"classic/migrations.xml", GraphFormat::graphml, 9780, 1715, 2, 0},

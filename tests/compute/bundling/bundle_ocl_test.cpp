@@ -8,7 +8,7 @@
 #include <string>
 
 #include "../../../compute/src/bundling/steps.hpp"
-#include "../../../compute/src/ocl/ops.hpp"
+#include "../../../compute/src/bundling/bundle_ocl.hpp"
 #include "trailscope/bundling/bundle.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/ocl_info.hpp"

@@ -1,5 +1,6 @@
 // MOT17-09-FRCNN with a real tracker's output must reproduce every column TrackEval wrote to
-// pedestrian_detailed.csv for that sequence (shared/data/tracker/SOURCES.md).
+// pedestrian_detailed.csv for that sequence (the data set's manifest,
+// $TRAILSCOPE_SHARED/data/tracker/SOURCES.md).
 #include <gtest/gtest.h>
 
 #include <fstream>

@@ -1,4 +1,4 @@
-// Quality metrics against a direct O(N³) computation written from the definitions (tracker.md §3.4),
+// Quality metrics against a direct O(N³) computation written from the definitions (quality.hpp),
 // against values worked out by hand, and on layouts whose quality is known exactly.
 #include <gtest/gtest.h>
 

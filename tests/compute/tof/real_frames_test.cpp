@@ -1,5 +1,6 @@
-// The real 16-bit depth frames in shared/data/tracker (SOURCES.md §2) load as documented. The expected
-// numbers are SOURCES.md's; the pixel values are checked against OpenImageIO read directly.
+// The real 16-bit depth frames in $TRAILSCOPE_SHARED/data/tracker (its manifest SOURCES.md) load as
+// documented. The expected numbers are SOURCES.md's; the pixel values are checked against OpenImageIO
+// read directly.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>

@@ -28,7 +28,7 @@ TEST(TrackerParams, EveryParameterIsListedOnceWithItsDefaultInRange) {
   std::set<std::string> names;
   for (std::size_t i = 0; i < infos.size(); ++i) {
     EXPECT_TRUE(names.insert(infos[i].name).second) << infos[i].name;
-    EXPECT_EQ(infos[i].default_value, v[i]) << infos[i].name;
+    EXPECT_EQ(infos[i].default_number, v[i]) << infos[i].name;
     EXPECT_EQ(get_param(p, infos[i].name), v[i]);
     EXPECT_GE(v[i], infos[i].min) << infos[i].name;
     EXPECT_LE(v[i], infos[i].max) << infos[i].name;

@@ -1,7 +1,8 @@
 #pragma once
-// CUBu bundling (research note shared/research/bundling.md §1): kernel-density-estimation edge bundling
-// (KDEEB; Hurter, Ersoy, Telea 2012) run as one loop on the OpenCL device, with the extras of CUBu
-// (edge profiles, endpoint clustering, directional bundling, relaxation, direction separation).
+// CUBu bundling (van der Zwan, Codreanu, Telea, "CUBu: Universal Real-Time Bundling for Large Graphs", IEEE
+// TVCG 22(12), 2016): kernel-density-estimation edge bundling (KDEEB; Hurter, Ersoy, Telea 2012) run as one
+// loop on the OpenCL device, with the extras of CUBu (edge profiles, endpoint clustering, directional
+// bundling, relaxation, direction separation).
 //
 // THE LOOP. The input is fitted into a `size` × `size` pixel image (Frame). For i = 0..iterations−1,
 // with h_i = h · ((2/h)^(1/iterations))^i:

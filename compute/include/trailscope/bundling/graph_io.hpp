@@ -11,8 +11,8 @@
 //               longitude|lon|x), as vega-datasets flights-airport.csv + airports.csv. Geographic
 //               coordinates (lon/lat) are projected to Web Mercator.
 //  - trl:       CUBu trail text: a token ending in ':' starts a polyline, then x y pairs; tokens starting
-//               with '(' or '<' are skipped (shared/data/bundling/SOURCES.md). `.xy` files are the same.
-//               A label with a single number (the "maxv: 1.0" header of a bundled file) is a header
+//               with '(' or '<' are skipped (as the original CUBu code's reader does). `.xy` files are the
+//               same. A label with a single number (the "maxv: 1.0" header of a bundled file) is a header
 //               field: like any polyline of fewer than 2 points it is counted in `skipped`.
 // Every error names the format and the line (or element) at fault.
 #include <cstddef>

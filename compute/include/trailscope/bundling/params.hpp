@@ -1,13 +1,15 @@
 #pragma once
 // Every parameter of CUBu bundling (van der Zwan, Codreanu, Telea, "CUBu: Universal Real-Time Bundling
 // for Large Graphs", IEEE TVCG 22(12), 2016) with its default and range. Names follow the paper's code
-// (research note shared/research/bundling.md §1.3) where it has one; lengths are in pixels of the
+// (CPUBundling and its batch front-end) where it has one; lengths are in pixels of the
 // bundling image (`size` × `size`), into which the input is fitted (bundle.hpp, Frame).
 #include <cstdint>
 #include <map>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "trailscope/core/params.hpp"
 
 namespace trailscope::bundling {
 
@@ -62,11 +64,8 @@ struct BundleParams {
   std::map<std::string, std::string> to_map() const;
 };
 
-/// One parameter's description, for --help, the API's schema and the dashboard's panel.
-struct ParamInfo {
-  std::string name, type, default_value, range, help;
-};
-/// Every parameter of BundleParams, in a stable order.
+/// Every parameter of BundleParams, in a stable order (type, default and range as text; numeric ones
+/// also with unit, default_number, min, max and integer).
 const std::vector<ParamInfo>& parameter_infos();
 
 const char* to_string(DensityMode m) noexcept;

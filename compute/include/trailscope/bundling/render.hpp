@@ -1,6 +1,6 @@
 #pragma once
-// Drawing bundles (research note §1.5; CUBu gdrawing.cpp): the same canvas → aggregate → shade shape as
-// the density path. Lines are drawn into a per-pixel colour accumulation (shortest edges first, each
+// Drawing bundles (CUBu, IEEE TVCG 2016, and its code's gdrawing.cpp): the same canvas → aggregate → shade
+// shape as the density path. Lines are drawn into a per-pixel colour accumulation (shortest edges first, each
 // point with its colour, alpha and cushion) and into a line density; the style then shades:
 //  - lines:  the accumulated colours, alpha-composited;
 //  - shaded: the colours lit as a height field: the line density, smoothed with radius shading_radius and

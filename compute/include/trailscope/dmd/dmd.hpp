@@ -1,6 +1,6 @@
 #pragma once
 // Dense medial descriptor (DMD) of a grey image: van der Zwan, Meiburg, Telea, "A Dense Medial
-// Descriptor for Image Analysis", VISAPP 2013 (research note shared/research/tracker.md §2.3).
+// Descriptor for Image Analysis", VISAPP 2013.
 //
 // Pipeline of run_dmd():
 //  1. layer selection: `layers` grey levels v_0 < v_1 < ... chosen from the histogram (v_0 is the
@@ -20,6 +20,7 @@
 #include <string_view>
 #include <vector>
 
+#include "trailscope/core/params.hpp"
 #include "trailscope/dmd/image.hpp"
 #include "trailscope/dmd/medial.hpp"
 
@@ -32,8 +33,8 @@ enum class LayerSelection {
 };
 
 /// Every DMD parameter, with its default and range. Defaults follow the DMD code's recommendations
-/// (research note §2.3: 20–40 layers, islands 0.001–0.02 of the area, 5 grey levels apart, saliency
-/// thresholds 0.2–2).
+/// (the successor DMD code, github.com/rmast/SSDMD-code: 20–40 layers, islands 0.001–0.02 of the area,
+/// 5 grey levels apart, saliency thresholds 0.2–2).
 struct DmdParams {
   int layers = 20;  ///< number of threshold layers including the canvas v_0; [2, 256]. Fewer are
                     ///< used when the image has fewer distinct levels or min_gap forbids more
@@ -51,11 +52,8 @@ struct DmdParams {
   void validate() const;
 };
 
-/// One parameter's description, for --help and JSON.
-struct ParamInfo {
-  std::string name, type, default_value, range, help;
-};
-/// Every parameter of DmdParams, in a stable order.
+/// Every parameter of DmdParams, in a stable order (type, default and range as text; numeric ones also
+/// with default_number, min, max and integer).
 const std::vector<ParamInfo>& parameter_infos();
 
 const char* to_string(LayerSelection s) noexcept;

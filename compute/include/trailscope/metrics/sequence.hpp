@@ -47,7 +47,7 @@ struct EvalSequence {
 };
 
 /// Default d_max for 3D points, millimetres: with the 0.5 match threshold a match needs d <= 10 mm,
-/// the sub-centimetre precision an automatic milking robot needs (research note tracker.md §3.1).
+/// the sub-centimetre precision an automatic milking robot needs (van der Zwan & Telea, VISAPP 2015).
 inline constexpr double kDefaultDistanceMax = 20.0;
 
 /// Intersection over union of two xywh boxes, exactly as TrackEval computes it: 0 when either box has no

@@ -1,7 +1,9 @@
 #pragma once
 // Quality of a projection: how well the 2D layout keeps the neighbourhoods and distances of the data
-// (see shared/research/tracker.md §3.4). Neighbour ranks are strict: ties in distance are broken by row
-// index, so every metric is deterministic.
+// (trustworthiness and continuity: Venna & Kaski, ICANN 2001; normalised stress and why it is scaled:
+// Smelser, Miller, Kobourov, "'Normalized Stress' is Not Normalized", arXiv 2408.07724, 2024).
+// Neighbour ranks are strict: ties in distance are broken by row index, so every metric is
+// deterministic.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -1,6 +1,7 @@
 #pragma once
 // A synthetic time-of-flight camera on an automatic-milking robot arm, with exact ground truth: the test
-// bed of the teat tracker (research note tracker.md §1; no public ToF udder video with ground truth exists).
+// bed of the teat tracker (van der Zwan & Telea, VISAPP 2015, evaluated on videos that are not public,
+// and no public ToF udder video with ground truth exists).
 //
 // Camera: 176x144 px by default (the SR4000-class imager of MESA's teat-tracking cameras), any size
 // allowed; pinhole, fx = fy = 150 px * width / 176 (about 60 x 51 deg for 176x144), principal point at

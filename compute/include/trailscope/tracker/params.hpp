@@ -1,10 +1,12 @@
 #pragma once
-// Parameters of the teat detector and tracker (research note tracker.md §1.2), each with its unit, default
-// and range. A run's full parameter vector is logged with it (tracker_log.hpp), swept by parameter studies
-// and projected as a point in parameter space, so every parameter is a plain number.
+// Parameters of the teat detector and tracker (tracker.hpp), each with its unit, default and range. A run's
+// full parameter vector is logged with it (tracker_log.hpp), swept by parameter studies and projected as a
+// point in parameter space, so every parameter is a plain number.
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "trailscope/core/params.hpp"
 
 namespace trailscope::tracker {
 
@@ -45,17 +47,8 @@ struct TrackerParams {
   double kalman_r_mm = 1.5;  ///< measurement noise standard deviation, mm, 0.01..100
 };
 
-/// One parameter as the CLI, the API and the dashboards describe it.
-struct ParamInfo {
-  std::string name;  ///< e.g. "ncc_min" (the CLI flag is --ncc-min)
-  std::string unit;  ///< "mm", "px", "", ...
-  double default_value = 0;
-  double min = 0, max = 0;  ///< inclusive range
-  bool integer = false;
-  std::string help;
-};
-
-/// Every parameter, in a stable order (the order of the logged vector).
+/// Every parameter, in a stable order (the order of the logged vector). All are numeric: the CLI and the
+/// API show unit, default_number, min, max and integer.
 const std::vector<ParamInfo>& parameter_infos();
 
 /// The parameter vector in parameter_infos() order.

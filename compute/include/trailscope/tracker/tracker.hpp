@@ -1,6 +1,8 @@
 #pragma once
-// Teat detector and tracker for low-resolution time-of-flight depth video (van der Zwan & Telea, VISAPP
-// 2015; design in research note tracker.md §1.2). Per frame:
+// Teat detector and tracker for low-resolution time-of-flight depth video (van der Zwan & Telea, "Robust
+// and Fast Teat Detection and Tracking in Low-resolution Videos for Automatic Milking Devices", VISAPP
+// 2015). The paper gives the task and its inputs, not its matcher or thresholds: the stages below are
+// our design. Per frame:
 //   1. preprocess: amplitude gate, depth gate, flying-pixel removal (distance to the 3x3 median), median;
 //   2. detect: NCC of the depth image with a bank of rounded-tip templates (teat tips point at the camera,
 //      so they are local depth protrusions); local NCC maxima >= ncc_min are the "matches";

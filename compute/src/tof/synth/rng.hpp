@@ -1,42 +1,21 @@
 #pragma once
-// A small, fully specified random generator, so that a seed gives the same video on every platform and
-// standard library (std::normal_distribution and friends are implementation-defined). Internal.
+// The synthetic video's random numbers: xoshiro256** (core/rng.hpp) with a fully specified normal
+// distribution, so that a seed gives the same video on every platform and standard library
+// (std::normal_distribution and friends are implementation-defined). Internal.
 #include <cmath>
 #include <cstdint>
 
+#include "core/rng.hpp"
+
 namespace trailscope::tof::synth {
 
-/// SplitMix64 step: seeds other generators and hashes (seed, stream) pairs.
-inline std::uint64_t splitmix64(std::uint64_t& x) {
-  std::uint64_t z = (x += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-/// xoshiro256** (Blackman & Vigna), seeded through SplitMix64 from (seed, stream).
-class Rng {
+/// xoshiro256**, one independent stream per (seed, stream) pair.
+class Rng : public rng::Xoshiro256ss {
  public:
-  Rng(std::uint64_t seed, std::uint64_t stream) {
-    std::uint64_t x = seed ^ (stream * 0xd1b54a32d192ed03ull);
-    for (auto& w : s_) w = splitmix64(x);
-  }
-  std::uint64_t next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9, t = s_[1] << 17;
-    s_[2] ^= s_[0], s_[3] ^= s_[1], s_[1] ^= s_[2], s_[0] ^= s_[3], s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
-  /// Uniform in [0, 1), 53 bits.
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  Rng(std::uint64_t seed, std::uint64_t stream) : Xoshiro256ss(seed ^ (stream * 0xd1b54a32d192ed03ull)) {}
   /// Standard normal by the 256-layer ziggurat of Marsaglia & Tsang (2000), as in Rust's rand_distr:
   /// about 4x faster than Box-Muller, which matters at two draws per pixel.
   double normal();
-
- private:
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  std::uint64_t s_[4];
 };
 
 namespace detail {

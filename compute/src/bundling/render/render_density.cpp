@@ -9,7 +9,7 @@
 #include <cmath>
 #include <deque>
 
-#include "bundling/render_detail.hpp"
+#include "bundling/render/render_detail.hpp"
 #include "trailscope/density/kde.hpp"
 #include "trailscope/density/raster.hpp"
 

@@ -1,4 +1,4 @@
-// CUBu trail text (GraphDrawing::readTrails; shared/data/bundling/SOURCES.md): whitespace-separated
+// CUBu trail text (the original CUBu code's GraphDrawing::readTrails): whitespace-separated
 // tokens, line breaks (LF or CRLF) insignificant. A token ending in ':' ("12:") starts a polyline, then
 // come x y pairs; tokens starting with '(' or '<' (a bundled file's "(7)" and "<0.000000>" annotations)
 // are skipped. A label followed by a single number is a header field ("maxv: 1.000000") and, like every
@@ -8,7 +8,7 @@
 #include <cctype>
 #include <string>
 
-#include "bundling/graph_parse.hpp"
+#include "bundling/io/graph_parse.hpp"
 
 namespace trailscope::bundling::detail {
 namespace {

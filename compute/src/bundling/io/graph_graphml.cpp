@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-#include "bundling/graph_parse.hpp"
+#include "bundling/io/graph_parse.hpp"
 
 namespace trailscope::bundling::detail {
 namespace {

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 
-#include "bundling/render_detail.hpp"
+#include "bundling/render/render_detail.hpp"
 #include "trailscope/density/colormap.hpp"
 
 namespace trailscope::bundling::detail {

@@ -11,8 +11,9 @@
 #include <sstream>
 #include <utility>
 
-#include "bundling/graph_parse.hpp"
+#include "bundling/io/graph_parse.hpp"
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 #include "trailscope/core/limits.hpp"
 
 namespace trailscope::bundling {
@@ -199,16 +200,14 @@ Graph read_graph(const std::filesystem::path& path, const std::filesystem::path&
 std::string write_trl(const Polylines& lines) {
   std::string out;
   out.reserve(lines.points() * 24 + lines.size() * 8);
-  char buf[64];
   for (std::size_t i = 0; i < lines.size(); ++i) {
     out += std::to_string(i);
     out += ':';
     for (std::size_t k = lines.begin(i); k < lines.end(i); ++k) {
       // Shortest round-trip text: parsing it back gives the same doubles.
       for (double v : {lines.x[k], lines.y[k]}) {
-        const auto r = std::to_chars(buf, buf + sizeof buf, v);
         out += ' ';
-        out.append(buf, r.ptr);
+        append_shortest(out, v);
       }
     }
     out += '\n';

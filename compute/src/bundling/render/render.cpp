@@ -8,8 +8,9 @@
 #include <cmath>
 #include <numeric>
 
-#include "bundling/render_detail.hpp"
+#include "bundling/render/render_detail.hpp"
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/density/colormap.hpp"
 #include "trailscope/geo/tile_id.hpp"
@@ -17,16 +18,10 @@
 namespace trailscope::bundling {
 namespace {
 
-std::string text(double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
 void check_range(const char* name, double v, double lo, double hi) {
   if (!(v >= lo && v <= hi))
-    throw invalid_argument(name,
-                           std::string(name) + " " + text(v) + " is outside " + text(lo) + ".." + text(hi));
+    throw invalid_argument(name, std::string(name) + " " + format_double(v) + " is outside " +
+                                     format_double(lo) + ".." + format_double(hi));
 }
 
 double parse_number(std::string_view value, const std::string& name) {
@@ -109,8 +104,8 @@ void RenderParams::validate() const {
     throw invalid_argument("background",
                            "background '" + background + "' is not one of black, white, transparent");
   if (std::isnan(relaxation) || relaxation > 1)
-    throw invalid_argument("relaxation",
-                           "relaxation " + text(relaxation) + " is outside 0..1 (or < 0: the bundle's)");
+    throw invalid_argument(
+        "relaxation", "relaxation " + format_double(relaxation) + " is outside 0..1 (or < 0: the bundle's)");
 }
 
 void RenderParams::set(std::string_view name, std::string_view value) {

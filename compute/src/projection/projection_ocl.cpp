@@ -1,13 +1,13 @@
 // Host side of compute/kernels/projection_*.cl (see trailscope/projection/projection.hpp for what each
-// method computes and ocl/ops.hpp for the contract of each function).
+// method computes and projection/projection_ocl.hpp for the contract of each function).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 #include <tbb/parallel_for.h>
 
-#include "ocl/ops.hpp"
 #include "projection/detail.hpp"
+#include "projection/projection_ocl.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/projection/projection.hpp"
 #ifdef TRAILSCOPE_HAVE_OPENCL
@@ -20,16 +20,6 @@ namespace trailscope::ocl {
 namespace {
 
 constexpr std::size_t kMaxGlobal = std::size_t{1} << 31;  // kernels index with int / size_t mixes
-
-// A fixed work-group size (64, or the kernel's limit if lower) rather than NullRange: PoCL compiles a
-// kernel again for every new work-group size it picks (see density_lines_ocl.cpp).
-void launch(const DeviceContext* ctx, cl::Kernel& k, std::size_t n) {
-  if (n == 0) return;
-  const std::size_t group = std::max<std::size_t>(
-      1, std::min<std::size_t>(64, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device)));
-  ctx->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
-                                  cl::NDRange(group));
-}
 
 cl::Buffer upload(const DeviceContext* ctx, const void* p, std::size_t bytes) {
   // COPY_HOST_PTR: read-only on the device, the host data stays untouched. A zero-sized buffer is
@@ -49,13 +39,6 @@ std::string too_big(const DeviceContext* ctx, std::initializer_list<std::size_t>
   return {};
 }
 
-const DeviceContext* context_or(std::string& why) {
-  std::string reason;
-  const DeviceContext* ctx = device_context(&reason);
-  if (!ctx) why = "OpenCL unavailable: " + reason;
-  return ctx;
-}
-
 // Squared/plain distances of a (na × dims) to the resident buffer b (nb × dims) into the buffer out.
 void sqdist_on(const DeviceContext* ctx, const cl::Buffer& a, std::size_t na, const cl::Buffer& b,
                std::size_t nb, std::size_t dims, bool root, const cl::Buffer& out) {
@@ -69,35 +52,28 @@ void sqdist_on(const DeviceContext* ctx, const cl::Buffer& a, std::size_t na, co
 
 std::string projection_sqdist_ocl(const float* a, std::size_t na, const float* b, std::size_t nb,
                                   std::size_t dims, bool root, float* out) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  if (na * nb >= kMaxGlobal) return "distance block of " + std::to_string(na * nb) + " entries is too large";
-  if (auto w = too_big(ctx, {na * nb * 4, na * dims * 4, nb * dims * 4}); !w.empty()) return w;
-  try {
+  return run_on_device("projection sqdist kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (na * nb >= kMaxGlobal)
+      return "distance block of " + std::to_string(na * nb) + " entries is too large";
+    if (auto w = too_big(ctx, {na * nb * 4, na * dims * 4, nb * dims * 4}); !w.empty()) return w;
     cl::Buffer ba = upload(ctx, a, na * dims * 4), bb = upload(ctx, b, nb * dims * 4);
     cl::Buffer bo(ctx->context, CL_MEM_WRITE_ONLY, std::max<std::size_t>(4, na * nb * 4));
     sqdist_on(ctx, ba, na, bb, nb, dims, root, bo);
     if (na * nb > 0) ctx->queue.enqueueReadBuffer(bo, CL_TRUE, 0, na * nb * 4, out);
-  } catch (const cl::Error& e) {
-    return "projection sqdist kernel failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string projection_knn_ocl(const float* x, std::size_t n, std::size_t dims, int k, std::int32_t* idx,
                                float* sqdist) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  if (k < 1 || static_cast<std::size_t>(k) >= n) return "k out of range";
-  // Tiled: the device fills blocks of `rows` × n squared distances (the O(N²·D) part, with j fastest so
-  // that PoCL vectorises across work-items and a GPU coalesces), the host selects each row's k
-  // smallest by (distance, index) while the device computes the next block. A per-row selection kernel
-  // measured 10× slower on PoCL: its private sorted lists defeat the vectoriser.
-  const std::size_t rows = std::max<std::size_t>(1, std::min(n, (std::size_t{1} << 23) / n));
-  if (auto w = too_big(ctx, {n * dims * 4, rows * n * 4}); !w.empty()) return w;
-  try {
+  return run_on_device("projection knn kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (k < 1 || static_cast<std::size_t>(k) >= n) return "k out of range";
+    // Tiled: the device fills blocks of `rows` × n squared distances (the O(N²·D) part, with j fastest so
+    // that PoCL vectorises across work-items and a GPU coalesces), the host selects each row's k
+    // smallest by (distance, index) while the device computes the next block. A per-row selection kernel
+    // measured 10× slower on PoCL: its private sorted lists defeat the vectoriser.
+    const std::size_t rows = std::max<std::size_t>(1, std::min(n, (std::size_t{1} << 23) / n));
+    if (auto w = too_big(ctx, {n * dims * 4, rows * n * 4}); !w.empty()) return w;
     cl::Buffer bx = upload(ctx, x, n * dims * 4);
     cl::Buffer out[2] = {cl::Buffer(ctx->context, CL_MEM_WRITE_ONLY, rows * n * 4),
                          cl::Buffer(ctx->context, CL_MEM_WRITE_ONLY, rows * n * 4)};
@@ -133,27 +109,22 @@ std::string projection_knn_ocl(const float* x, std::size_t n, std::size_t dims, 
         }
       });
     }
-  } catch (const cl::Error& e) {
-    return "projection knn kernel failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string projection_covariance_ocl(const float* x, std::size_t n, std::size_t dims, const double* mean,
                                       double* cov) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  const std::size_t dd = dims * dims;
-  // Chunks of rows: enough work-items to fill the device, few enough partials (≤ 16M floats), and
-  // float sums of at most a few thousand terms.
-  std::size_t chunks = std::clamp<std::size_t>((std::size_t{1} << 24) / std::max<std::size_t>(dd, 1), 1,
-                                               std::max<std::size_t>(1, (n + 63) / 64));
-  const std::size_t rows_per = (n + chunks - 1) / chunks;
-  chunks = (n + rows_per - 1) / rows_per;
-  if (auto w = too_big(ctx, {n * dims * 4, chunks * dd * 4}); !w.empty()) return w;
-  std::vector<float> meanf(mean, mean + dims), partial(chunks * dd);
-  try {
+  return run_on_device("projection covariance kernel", [&](const DeviceContext* ctx) -> std::string {
+    const std::size_t dd = dims * dims;
+    // Chunks of rows: enough work-items to fill the device, few enough partials (≤ 16M floats), and
+    // float sums of at most a few thousand terms.
+    std::size_t chunks = std::clamp<std::size_t>((std::size_t{1} << 24) / std::max<std::size_t>(dd, 1), 1,
+                                                 std::max<std::size_t>(1, (n + 63) / 64));
+    const std::size_t rows_per = (n + chunks - 1) / chunks;
+    chunks = (n + rows_per - 1) / rows_per;
+    if (auto w = too_big(ctx, {n * dims * 4, chunks * dd * 4}); !w.empty()) return w;
+    std::vector<float> meanf(mean, mean + dims), partial(chunks * dd);
     cl::Kernel k(program("projection_pca"), "covariance");
     cl::Buffer bx = upload(ctx, x, n * dims * 4), bm = upload(ctx, meanf);
     cl::Buffer bp(ctx->context, CL_MEM_WRITE_ONLY, partial.size() * 4);
@@ -162,23 +133,18 @@ std::string projection_covariance_ocl(const float* x, std::size_t n, std::size_t
     k.setArg(4, static_cast<cl_int>(rows_per)), k.setArg(5, static_cast<cl_int>(chunks)), k.setArg(6, bp);
     launch(ctx, k, chunks * dd);
     ctx->queue.enqueueReadBuffer(bp, CL_TRUE, 0, partial.size() * 4, partial.data());
-  } catch (const cl::Error& e) {
-    return "projection covariance kernel failed: " + describe(e);
-  }
-  std::fill(cov, cov + dd, 0.0);
-  for (std::size_t c = 0; c < chunks; ++c)
-    for (std::size_t e = 0; e < dd; ++e) cov[e] += partial[c * dd + e];
-  return {};
+    std::fill(cov, cov + dd, 0.0);
+    for (std::size_t c = 0; c < chunks; ++c)
+      for (std::size_t e = 0; e < dd; ++e) cov[e] += partial[c * dd + e];
+    return {};
+  });
 }
 
 std::string projection_scores_ocl(const float* x, std::size_t n, std::size_t dims, const double* mean,
                                   const double* w, double* out) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  if (auto e = too_big(ctx, {n * dims * 4}); !e.empty()) return e;
-  std::vector<float> meanf(mean, mean + dims), wf(w, w + 2 * dims), res(2 * n);
-  try {
+  return run_on_device("projection scores kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (auto e = too_big(ctx, {n * dims * 4}); !e.empty()) return e;
+    std::vector<float> meanf(mean, mean + dims), wf(w, w + 2 * dims), res(2 * n);
     cl::Kernel k(program("projection_pca"), "scores");
     cl::Buffer bx = upload(ctx, x, n * dims * 4), bm = upload(ctx, meanf), bw = upload(ctx, wf);
     cl::Buffer bo(ctx->context, CL_MEM_WRITE_ONLY, res.size() * 4);
@@ -186,21 +152,16 @@ std::string projection_scores_ocl(const float* x, std::size_t n, std::size_t dim
     k.setArg(4, static_cast<cl_int>(dims)), k.setArg(5, bo);
     launch(ctx, k, n);
     ctx->queue.enqueueReadBuffer(bo, CL_TRUE, 0, res.size() * 4, res.data());
-  } catch (const cl::Error& e) {
-    return "projection scores kernel failed: " + describe(e);
-  }
-  std::copy(res.begin(), res.end(), out);
-  return {};
+    std::copy(res.begin(), res.end(), out);
+    return {};
+  });
 }
 
 std::string projection_mds_exact_ocl(const float* x, std::size_t n, std::size_t dims, std::uint64_t seed,
                                      const CancelToken* cancel, std::vector<double>& xy) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  if (n * n >= kMaxGlobal) return "MDS matrix too large for the kernels";
-  if (auto w = too_big(ctx, {n * n * 4, n * dims * 4}); !w.empty()) return w;
-  try {
+  return run_on_device("projection MDS kernels", [&](const DeviceContext* ctx) -> std::string {
+    if (n * n >= kMaxGlobal) return "MDS matrix too large for the kernels";
+    if (auto w = too_big(ctx, {n * n * 4, n * dims * 4}); !w.empty()) return w;
     const cl::Program dist = program("projection_distance"), mds = program("projection_mds");
     cl::Buffer bx = upload(ctx, x, n * dims * 4);
     cl::Buffer bb(ctx->context, CL_MEM_READ_WRITE, n * n * 4);
@@ -244,10 +205,8 @@ std::string projection_mds_exact_ocl(const float* x, std::size_t n, std::size_t 
       const double s = std::sqrt(std::max(te.lambda[c], 0.0));
       for (std::size_t i = 0; i < n; ++i) xy[2 * i + c] = te.v[2 * i + c] * s;
     }
-  } catch (const cl::Error& e) {
-    return "projection MDS kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 namespace {
@@ -328,42 +287,29 @@ class TsneDevice {
 
 std::string projection_tsne_optimize_ocl(const projection::Affinities& P, const projection::TsneOptions& o,
                                          double theta, std::vector<double>& y) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("projection t-SNE kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneDevice dev(ctx, P, theta);
     projection::detail::tsne_optimize(
         y, P.rows, o,
         [&](const std::vector<double>& yy, double ex, std::vector<double>& g) { dev.gradient(yy, ex, g); });
-  } catch (const cl::Error& e) {
-    return "projection t-SNE kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string projection_tsne_gradient_ocl(const projection::Affinities& P, const std::vector<double>& y,
                                          double exaggeration, double theta, std::vector<double>& grad) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("projection t-SNE kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneDevice dev(ctx, P, theta);
     dev.gradient(y, exaggeration, grad);
-  } catch (const cl::Error& e) {
-    return "projection t-SNE kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string projection_force_ocl(const float* x, std::size_t n, std::size_t dims, int iterations,
                                  const CancelToken* cancel, std::vector<double>& y) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  if (n * n >= kMaxGlobal) return "Force Scheme matrix too large for the kernels";
-  if (auto w = too_big(ctx, {n * n * 4, n * dims * 4}); !w.empty()) return w;
-  try {
+  return run_on_device("projection Force Scheme kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (n * n >= kMaxGlobal) return "Force Scheme matrix too large for the kernels";
+    if (auto w = too_big(ctx, {n * n * 4, n * dims * 4}); !w.empty()) return w;
     cl::Buffer bx = upload(ctx, x, n * dims * 4);
     cl::Buffer bd(ctx->context, CL_MEM_READ_WRITE, n * n * 4);
     sqdist_on(ctx, bx, n, bx, n, dims, true, bd);
@@ -380,26 +326,21 @@ std::string projection_force_ocl(const float* x, std::size_t n, std::size_t dims
     }
     ctx->queue.enqueueReadBuffer(ya, CL_TRUE, 0, n * 8, yf.data());
     y.assign(yf.begin(), yf.end());
-  } catch (const cl::Error& e) {
-    return "projection Force Scheme kernel failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string projection_lamp_map_ocl(const float* x, std::size_t n, std::size_t dims,
                                     const std::vector<std::size_t>& controls,
                                     const std::vector<double>& control_xy, std::vector<double>& out) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  const std::size_t nc = controls.size();
-  if (auto w = too_big(ctx, {n * dims * 4}); !w.empty()) return w;
-  std::vector<float> cx(nc * dims), cy(control_xy.begin(), control_xy.end()), res(2 * n);
-  for (std::size_t i = 0; i < nc; ++i) std::copy_n(x + controls[i] * dims, dims, cx.data() + i * dims);
-  // Points per launch: the weights scratch (batch × controls floats) stays ≤ 64 MiB.
-  const std::size_t batch =
-      std::max<std::size_t>(1, std::min(n, (std::size_t{16} << 20) / std::max<std::size_t>(nc, 1)));
-  try {
+  return run_on_device("projection LAMP kernel", [&](const DeviceContext* ctx) -> std::string {
+    const std::size_t nc = controls.size();
+    if (auto w = too_big(ctx, {n * dims * 4}); !w.empty()) return w;
+    std::vector<float> cx(nc * dims), cy(control_xy.begin(), control_xy.end()), res(2 * n);
+    for (std::size_t i = 0; i < nc; ++i) std::copy_n(x + controls[i] * dims, dims, cx.data() + i * dims);
+    // Points per launch: the weights scratch (batch × controls floats) stays ≤ 64 MiB.
+    const std::size_t batch =
+        std::max<std::size_t>(1, std::min(n, (std::size_t{16} << 20) / std::max<std::size_t>(nc, 1)));
     cl::Kernel k(program("projection_lamp"), "lamp_map");
     cl::Buffer bx = upload(ctx, x, n * dims * 4), bcx = upload(ctx, cx), bcy = upload(ctx, cy);
     cl::Buffer scratch(ctx->context, CL_MEM_READ_WRITE, batch * nc * 4);
@@ -413,11 +354,9 @@ std::string projection_lamp_map_ocl(const float* x, std::size_t n, std::size_t d
       launch(ctx, k, count);
       ctx->queue.enqueueReadBuffer(bo, CL_TRUE, 0, count * 8, res.data() + 2 * first);
     }
-  } catch (const cl::Error& e) {
-    return "projection LAMP kernel failed: " + describe(e);
-  }
-  out.assign(res.begin(), res.end());
-  return {};
+    out.assign(res.begin(), res.end());
+    return {};
+  });
 }
 
 void projection_warm_up() {

@@ -1,5 +1,5 @@
 // Host side of compute/kernels/density_lines.cl (see density/density_lines.hpp for what it computes).
-#include "ocl/ops.hpp"
+#include "density/density_lines_ocl.hpp"
 
 #include <algorithm>
 
@@ -13,19 +13,16 @@ namespace trailscope::ocl {
 
 #ifdef TRAILSCOPE_HAVE_OPENCL
 std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate& out) {
-  std::string why;
-  const DeviceContext* ctx = device_context(&why);
-  if (!ctx) return "OpenCL unavailable: " + why;
-  if (s.with_value && !ctx->int64_atomics)
-    return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
-  const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
-  const std::size_t n = s.size();
-  if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes ||
-      n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
-    return "buffers exceed the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE";
+  return run_on_device("density_lines kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (s.with_value && !ctx->int64_atomics)
+      return "device lacks cl_khr_int64_base_atomics (needed for value sums)";
+    const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+    const std::size_t n = s.size();
+    if (pixels * sizeof(std::int64_t) > ctx->max_alloc_bytes ||
+        n * 6 * sizeof(std::int32_t) > ctx->max_alloc_bytes)
+      return "buffers exceed the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE";
 
-  density::Aggregate a = density::Aggregate::zeros(s.width, s.height, s.with_value);
-  try {
+    density::Aggregate a = density::Aggregate::zeros(s.width, s.height, s.with_value);
     const cl::Context& context = ctx->context;
     const cl::CommandQueue& queue = ctx->queue;
     cl::Program prog = program("density_lines", s.with_value ? "-DWITH_VALUE=1" : "");
@@ -58,25 +55,19 @@ std::string density_lines_ocl(const density::LineSegments& s, density::Aggregate
         kernel.setArg(arg++, value_sum);
         kernel.setArg(arg++, value_count);
       }
-      // A fixed work-group size (64, or less where the device's limit for this kernel is lower): with
-      // NullRange PoCL picks one from the global size and compiles the kernel again for each new size
-      // (~0.1–0.2 s), i.e. for almost every tile. The kernel ignores the padding work-items (s >= n).
-      const std::size_t group =
-          std::min<std::size_t>(64, kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device));
-      queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
-                                 cl::NDRange(group));
+      // A fixed work-group size (ocl::launch): with NullRange PoCL would compile the kernel again for
+      // almost every tile.
+      launch(ctx, kernel, n);
     }
     queue.enqueueReadBuffer(count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.count.data());
     if (s.with_value) {
       queue.enqueueReadBuffer(value_sum, CL_TRUE, 0, pixels * sizeof(std::int64_t), a.value_sum.data());
       queue.enqueueReadBuffer(value_count, CL_TRUE, 0, pixels * sizeof(std::int32_t), a.value_count.data());
     }
-  } catch (const cl::Error& e) {
-    return "density_lines kernel failed: " + describe(e);
-  }
-  a.path = density::ComputePath::opencl;
-  out = std::move(a);
-  return {};
+    a.path = density::ComputePath::opencl;
+    out = std::move(a);
+    return {};
+  });
 }
 #else
 std::string density_lines_ocl(const density::LineSegments&, density::Aggregate&) {
@@ -84,7 +75,7 @@ std::string density_lines_ocl(const density::LineSegments&, density::Aggregate&)
 }
 #endif
 
-void warm_up_ops() {
+void density_lines_warm_up() {
   // Zero-length segments on a 1×1 canvas, with and without values: both kernel variants. PoCL
   // specialises a kernel for the launch's grid as well as its work-group size: with a handful of
   // work-items here, the first real launch still compiled for ~0.1 s; with 2^17 it does not.
@@ -96,8 +87,6 @@ void warm_up_ops() {
     if (const std::string why = density_lines_ocl(s, out); !why.empty())
       throw Error(Error::Kind::backend, "backend", "OpenCL warm-up of density_lines failed: " + why);
   }
-  bundle_warm_up();      // compute/src/ocl/bundle_ocl.cpp
-  projection_warm_up();  // compute/src/ocl/projection_ocl.cpp
 }
 
 }  // namespace trailscope::ocl

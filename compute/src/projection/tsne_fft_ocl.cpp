@@ -1,9 +1,9 @@
-// Host side of compute/kernels/projection_tsne_fft.cl (see ocl/tsne_fft_ocl.hpp). Per gradient: the
+// Host side of compute/kernels/projection_tsne_fft.cl (see projection/tsne_fft_ocl.hpp). Per gradient: the
 // host lays out the grid and sorts the points by box (O(N)); the device computes the attraction
 // (tsne_attract of projection_tsne.cl) and spreads the charges to the grid; the host convolves the grid
 // by FFT (float cv::dft: on PoCL the device is the same CPU, and on a GPU the grid, a few hundred KiB,
 // crosses the bus in tens of µs); the device gathers the potentials back to the points.
-#include "ocl/tsne_fft_ocl.hpp"
+#include "projection/tsne_fft_ocl.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -21,16 +21,6 @@ namespace trailscope::ocl {
 namespace {
 
 constexpr std::size_t kMaxGlobal = std::size_t{1} << 31;
-
-// A fixed work-group size (64, or the kernel's limit if lower): PoCL compiles a kernel again for every
-// new work-group size, and a GPU wants a multiple of its warp.
-void launch(const DeviceContext* ctx, cl::Kernel& k, std::size_t n) {
-  if (n == 0) return;
-  const std::size_t group = std::max<std::size_t>(
-      1, std::min<std::size_t>(64, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx->device)));
-  ctx->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + group - 1) / group * group),
-                                  cl::NDRange(group));
-}
 
 // A read-write buffer of at least `bytes`, reallocated (1.5×) only when it must grow.
 void reserve(const DeviceContext* ctx, cl::Buffer& b, std::size_t& cap, std::size_t bytes) {
@@ -137,59 +127,37 @@ class TsneFftDevice {
   std::vector<std::int32_t> order_h_, start_h_;
 };
 
-const DeviceContext* context_or(std::string& why) {
-  std::string reason;
-  const DeviceContext* ctx = device_context(&reason);
-  if (!ctx) why = "OpenCL unavailable: " + reason;
-  return ctx;
-}
-
 }  // namespace
 
 std::string tsne_fft_repulsion_ocl(const std::vector<double>& y, const projection::TsneFftOptions& f,
                                    std::vector<double>& terms) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("t-SNE FFT kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneFftDevice dev(ctx, y.size() / 2, nullptr, f);
     dev.compute(y);
     dev.terms(terms);
-  } catch (const cl::Error& e) {
-    return "t-SNE FFT kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string tsne_fft_gradient_ocl(const projection::Affinities& P, const std::vector<double>& y,
                                   double exaggeration, const projection::TsneFftOptions& f,
                                   std::vector<double>& grad) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("t-SNE FFT kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneFftDevice dev(ctx, P.rows, &P, f);
     dev.gradient(y, exaggeration, grad);
-  } catch (const cl::Error& e) {
-    return "t-SNE FFT kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 std::string tsne_fft_optimize_ocl(const projection::Affinities& P, const projection::TsneOptions& o,
                                   std::vector<double>& y) {
-  std::string why;
-  const DeviceContext* ctx = context_or(why);
-  if (!ctx) return why;
-  try {
+  return run_on_device("t-SNE FFT kernels", [&](const DeviceContext* ctx) -> std::string {
     TsneFftDevice dev(ctx, P.rows, &P, o.fft);
     projection::detail::tsne_optimize(
         y, P.rows, o,
         [&](const std::vector<double>& yy, double ex, std::vector<double>& g) { dev.gradient(yy, ex, g); });
-  } catch (const cl::Error& e) {
-    return "t-SNE FFT kernels failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 #else

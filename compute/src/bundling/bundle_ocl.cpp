@@ -1,9 +1,9 @@
-// Host side of compute/kernels/bundle.cl: the CUBu loop with every array on the device. Per iteration
-// the only transfers are the per-polyline counts of the resampling (read, scanned on the host against
-// limits::kMaxBundlePoints before the new points are allocated, offsets written back) and the 16-byte
-// reset of the splat box; points, splat image and density stay on the device from the first resample
-// to the last smoothing, and the counts read is the iteration's only synchronisation. The crop of the
-// convolution to the splatted box is read by the kernels from the device, so it costs no round trip.
+// Host side of compute/kernels/bundle.cl (declared in bundling/bundle_ocl.hpp): the CUBu loop with every
+// array on the device. Per iteration the only transfers are the per-polyline counts of the resampling (read,
+// scanned on the host against limits::kMaxBundlePoints before the new points are allocated, offsets written
+// back) and the 16-byte reset of the splat box; points, splat image and density stay on the device from the
+// first resample to the last smoothing, and the counts read is the iteration's only synchronisation. The crop
+// of the convolution to the splatted box is read by the kernels from the device, so it costs no round trip.
 // Each call gets its own kernel objects and queue (clSetKernelArg is not thread-safe; see
 // profiling_queue()).
 //
@@ -18,8 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "bundling/steps.hpp"
-#include "ocl/ops.hpp"
+#include "bundling/bundle_ocl.hpp"
 #include "trailscope/bundling/params.hpp"
 #include "trailscope/core/error.hpp"
 #ifdef TRAILSCOPE_HAVE_OPENCL
@@ -492,17 +491,12 @@ class DeviceBundle {
 // Runs `body` on a fresh DeviceBundle; OpenCL errors become the reason the device cannot run.
 template <class Body>
 std::string with_device(Body&& body) {
-  std::string why;
-  const DeviceContext* ctx = device_context(&why);
-  if (!ctx) return "OpenCL unavailable: " + why;
-  if (std::string u = unsupported(*ctx); !u.empty()) return u;
-  try {
+  return run_on_device("bundle kernel", [&](const DeviceContext* ctx) -> std::string {
+    if (std::string u = unsupported(*ctx); !u.empty()) return u;
     DeviceBundle dev(*ctx);
     body(dev);
-  } catch (const cl::Error& e) {
-    return "bundle kernel failed: " + describe(e);
-  }
-  return {};
+    return {};
+  });
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "bundling/graph_parse.hpp"
+#include "bundling/io/graph_parse.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/geo/web_mercator.hpp"
 
