@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 
+#include "trailscope/analysis/run_table.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 
@@ -102,10 +103,8 @@ RunSeries series_of(const TrackerLog& log, const std::vector<double>& max_error)
 }
 
 std::vector<ValueRow> result_rows(const std::vector<const TrackerLog*>& logs, double within_mm) {
-  std::vector<ValueRow> rows = {
-      {"track_share", {}, false},           {"lost_episodes", {}, false},
-      {"tracker_fps", {}, false},           {"accuracy.median_error_mm", {}, false},
-      {"accuracy.p95_error_mm", {}, false}, {"accuracy.frames_all_within", {}, false}};
+  std::vector<ValueRow> rows;
+  for (const RunMetric& m : run_metrics()) rows.push_back({m.name, {}, false});
   for (const TrackerLog* log : logs) {
     double total_us = 0;
     for (const FrameLog& f : log->frames) total_us += f.times.total_us();
@@ -123,7 +122,7 @@ std::vector<ValueRow> result_rows(const std::vector<const TrackerLog*>& logs, do
           state == tracker::State::lost && (i == 0 || log->frames[i - 1].state != tracker::State::lost);
     }
     share = static_cast<double>(track) / static_cast<double>(log->frames.size());
-    const std::array<double, 6> figures = {share, episodes, fps, median, p95, within};  // rows' order
+    const std::array<double, 6> figures = {share, episodes, fps, median, p95, within};  // run_metrics() order
     for (std::size_t k = 0; k < figures.size(); ++k) rows[k].values.push_back(figures[k]);
   }
   return rows;
