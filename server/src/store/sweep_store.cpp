@@ -5,7 +5,7 @@
 
 #include "store/column_io.hpp"
 #include "store/dataset_ingest.hpp"
-#include "store/graph_store.hpp"
+#include "store/item_index.hpp"
 #include "trailscope/core/error.hpp"
 
 namespace trailscope::server {
