@@ -35,7 +35,7 @@ bundling::Frame frame_from(const nlohmann::json& j) {
 }
 
 // Geometry is stored as float32: bundle pixels lie in 0..4096, where float keeps 1/4000 px, and it halves
-// the files. bundle_request.cpp rounds a fresh result the same way, so a reloaded bundle draws the same
+// the files. jobs/bundle_job.cpp rounds a fresh result the same way, so a reloaded bundle draws the same
 // bytes as the one computed in this run (ETags stay valid across restarts).
 std::vector<float> to_float(const std::vector<double>& v) {
   return {v.begin(), v.end()};
@@ -166,13 +166,7 @@ std::shared_ptr<StoredBundle> BundleStore::read_bundle(const fs::path& dir) {
 
 BundleStore::BundleStore(fs::path root)
     : folders_(std::move(root), {"bundle", "bundles", 'b', "manifest.json"},
-               [](const fs::path& dir) {
-                 nlohmann::json m = read_manifest(dir);
-                 if (m.value("magic", "") != kMagic || m.value("version", 0) != kFormatVersion)
-                   throw io_error(dir, "recognise the format of");
-                 for (const char* k : {"magic", "version", "dataset"}) m.erase(k);
-                 return m;
-               }),
+               manifest_meta(kMagic, kFormatVersion, {"dataset"})),
       loaded_(kLoadedBundles) {}
 
 std::vector<nlohmann::json> BundleStore::list() const {
@@ -186,12 +180,9 @@ nlohmann::json BundleStore::meta(const std::string& id) const {
 std::shared_ptr<const StoredBundle> BundleStore::get(const std::string& id) const {
   std::lock_guard lock(mu_);
   folders_.check(id);
-  if (auto found = loaded_.find(id)) return found;
   // Reading happens under the lock: two requests for the same cold bundle read it once, and a delete
   // cannot move the folder away mid-read.
-  std::shared_ptr<const StoredBundle> b = read_bundle(folders_.dir(id));
-  loaded_.put(id, b);
-  return b;
+  return loaded_.get(id, [&] { return read_bundle(folders_.dir(id)); });
 }
 
 std::string BundleStore::reserve_id() {

@@ -104,4 +104,15 @@ void FolderStore::remove(const std::string& id) {
   fs::remove_all(gone, ec);
 }
 
+FolderStore::ReadMeta manifest_meta(std::string magic, int version, std::vector<std::string> private_keys) {
+  return [magic = std::move(magic), version, keys = std::move(private_keys)](const fs::path& dir) {
+    nlohmann::json m = read_manifest(dir);
+    if (m.value("magic", "") != magic || m.value("version", 0) != version)
+      throw io_error(dir, "recognise the format of");
+    m.erase("magic"), m.erase("version");
+    for (const std::string& k : keys) m.erase(k);
+    return m;
+  };
+}
+
 }  // namespace trailscope::server

@@ -70,6 +70,11 @@ class FolderStore {
   ItemIndex index_;
 };
 
+/// The ReadMeta of a store of column files (column_io.hpp): the folder's manifest.json, whose "magic" and
+/// "version" must be `magic` and `version`; those and the `private_keys` are not part of the metadata.
+FolderStore::ReadMeta manifest_meta(std::string magic, int version,
+                                    std::vector<std::string> private_keys = {});
+
 /// The few items of a store kept loaded, most recently used first (items can be large: a graph may hold
 /// millions of edges). Not thread-safe: the store's lock guards it.
 template <typename T>
@@ -90,6 +95,14 @@ class RecentItems {
     erase(id);
     items_.emplace_front(id, std::move(item));
     while (items_.size() > capacity_) items_.pop_back();
+  }
+  /// The loaded item, else the one `read()` returns, now loaded.
+  template <typename Read>
+  std::shared_ptr<const T> get(const std::string& id, Read&& read) {
+    if (auto found = find(id)) return found;
+    std::shared_ptr<const T> item = read();
+    put(id, item);
+    return item;
   }
   void erase(const std::string& id) {
     items_.remove_if([&](const auto& e) { return e.first == id; });

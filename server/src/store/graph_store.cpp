@@ -77,13 +77,7 @@ nlohmann::json StoredGraph::to_json() const {
 
 GraphStore::GraphStore(fs::path root)
     : folders_(std::move(root), {"graph", "graphs", 'g', "manifest.json"},
-               [](const fs::path& dir) {
-                 nlohmann::json m = read_manifest(dir);
-                 if (m.value("magic", "") != kMagic || m.value("version", 0) != kFormatVersion)
-                   throw io_error(dir, "recognise the format of");
-                 m.erase("magic"), m.erase("version");
-                 return m;
-               }),
+               manifest_meta(kMagic, kFormatVersion)),
       loaded_(kLoadedGraphs) {}
 
 std::vector<nlohmann::json> GraphStore::list() const {
@@ -97,11 +91,8 @@ nlohmann::json GraphStore::meta(const std::string& id) const {
 std::shared_ptr<const StoredGraph> GraphStore::get(const std::string& id) const {
   std::lock_guard lock(mu_);
   folders_.check(id);
-  if (auto found = loaded_.find(id)) return found;
   // Read under the lock: a delete cannot move the folder away mid-read.
-  std::shared_ptr<const StoredGraph> g = read_graph_dir(folders_.dir(id));
-  loaded_.put(id, g);
-  return g;
+  return loaded_.get(id, [&] { return read_graph_dir(folders_.dir(id)); });
 }
 
 std::shared_ptr<const StoredGraph> GraphStore::put(StoredGraph g) {

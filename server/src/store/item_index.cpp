@@ -51,6 +51,11 @@ const nlohmann::json& ItemIndex::at(const std::string& id, const std::string& pa
   return meta_.at(id);
 }
 
+nlohmann::json& ItemIndex::at(const std::string& id, const std::string& param) {
+  check(id, param);
+  return meta_.at(id);
+}
+
 std::vector<nlohmann::json> ItemIndex::list() const {
   std::vector<nlohmann::json> out;
   for (const auto& [n, id] : ids_) out.push_back(meta_.at(id));

@@ -29,6 +29,7 @@ class ItemIndex {
   void check(const std::string& id, const std::string& param) const;
   /// The metadata of `id`; throws as check().
   const nlohmann::json& at(const std::string& id, const std::string& param) const;
+  nlohmann::json& at(const std::string& id, const std::string& param);
   /// Every item's metadata, oldest first.
   std::vector<nlohmann::json> list() const;
   std::size_t size() const { return ids_.size(); }
