@@ -75,20 +75,34 @@ std::uint64_t FolderStore::number(const std::string& id) const {
   return index_.number(id);  // a pure function of the id: no lock
 }
 
-fs::path FolderStore::stage(const std::string& id) const {
-  const fs::path tmp = root_ / "tmp" / (layout_.noun + "." + id + "." + random_suffix());
+fs::path stage_folder(const fs::path& tmp_dir, const std::string& name) {
+  const fs::path tmp = tmp_dir / (name + "." + random_suffix());
   std::error_code ec;
   fs::create_directories(tmp, ec);
   if (ec) throw io_error(tmp, "create");
   return tmp;
 }
 
-void FolderStore::publish(const std::string& id, const fs::path& staged, nlohmann::json meta) {
-  const fs::path final_dir = dir(id);
+void publish_folder(const fs::path& staged, const fs::path& final_dir) {
   std::error_code ec;
   fs::rename(staged, final_dir, ec);
   if (ec) throw io_error(final_dir, "rename into");
-  fsync_path(root_ / layout_.folder);
+  fsync_path(final_dir.parent_path());
+}
+
+void remove_folder(const fs::path& dir, const fs::path& gone) {
+  std::error_code ec;
+  fs::rename(dir, gone, ec);
+  if (ec) throw io_error(dir, "remove");
+  fs::remove_all(gone, ec);
+}
+
+fs::path FolderStore::stage(const std::string& id) const {
+  return stage_folder(root_ / "tmp", layout_.noun + "." + id);
+}
+
+void FolderStore::publish(const std::string& id, const fs::path& staged, nlohmann::json meta) {
+  publish_folder(staged, dir(id));
   std::lock_guard lock(mu_);
   index_.add(id, std::move(meta));
 }
@@ -96,12 +110,8 @@ void FolderStore::publish(const std::string& id, const fs::path& staged, nlohman
 void FolderStore::remove(const std::string& id) {
   std::lock_guard lock(mu_);
   index_.check(id, layout_.noun);
-  const fs::path gone = root_ / "tmp" / (layout_.noun + "." + id + ".deleted." + random_suffix());
-  std::error_code ec;
-  fs::rename(dir(id), gone, ec);
-  if (ec) throw io_error(dir(id), "remove");
+  remove_folder(dir(id), root_ / "tmp" / (layout_.noun + "." + id + ".deleted." + random_suffix()));
   index_.erase(id);
-  fs::remove_all(gone, ec);
 }
 
 FolderStore::ReadMeta manifest_meta(std::string magic, int version, std::vector<std::string> private_keys) {

@@ -70,6 +70,16 @@ class FolderStore {
   ItemIndex index_;
 };
 
+/// The folder operations every store of folders makes (the dataset store, FolderStore).
+/// A new, empty folder <tmp_dir>/<name>.<random> to write an item into. Throws Error(internal).
+std::filesystem::path stage_folder(const std::filesystem::path& tmp_dir, const std::string& name);
+/// Renames `staged` to `final_dir` (rename(2) of a folder is atomic: after a crash the item is there whole
+/// or not at all) and fsyncs the parent. Throws Error(internal) ("cannot rename into") when it fails.
+void publish_folder(const std::filesystem::path& staged, const std::filesystem::path& final_dir);
+/// Renames `dir` out to `gone` (atomic), then deletes it: a crash mid-delete leaves only `gone`. Throws
+/// Error(internal) ("cannot remove") when `dir` cannot be moved.
+void remove_folder(const std::filesystem::path& dir, const std::filesystem::path& gone);
+
 /// The ReadMeta of a store of column files (column_io.hpp): the folder's manifest.json, whose "magic" and
 /// "version" must be `magic` and `version`; those and the `private_keys` are not part of the metadata.
 FolderStore::ReadMeta manifest_meta(std::string magic, int version,
