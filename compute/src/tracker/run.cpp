@@ -1,5 +1,6 @@
-// Running a tracker over a depth video into a TrackerLog (TrackerRun, tracker_log.hpp), and the mapping
-// between TrackerParams and a log header's named parameter vector.
+// Running a tracker over a depth video into a TrackerLog (TrackerRun, tracker_log.hpp), the mapping
+// between TrackerParams and a log header's named parameter vector, and a run's state counts
+// (run_counts.hpp).
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -9,6 +10,7 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/tof/depth_video_io.hpp"
+#include "trailscope/tracker/run_counts.hpp"
 #include "trailscope/tracker/tracker_log.hpp"
 
 namespace trailscope::tracker {
@@ -52,6 +54,17 @@ void check_range(const tof::VideoInfo& info, const RunOptions& options) {
 }
 
 }  // namespace
+
+StateCounts count_states(const std::vector<FrameLog>& frames) {
+  StateCounts c;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const State state = frames[i].state;
+    (state == State::search ? c.search : state == State::track ? c.track : c.lost) += 1;
+    c.lost_episodes += state == State::lost && (i == 0 || frames[i - 1].state != State::lost);
+    c.tracker_us += frames[i].times.total_us();
+  }
+  return c;
+}
 
 TrackerParams params_of(const RunHeader& header) {
   TrackerParams p;
