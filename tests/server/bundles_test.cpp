@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "route_fixture.hpp"
-#include "store/bundle_export.hpp"
+#include "formats/bundle_export.hpp"
 #include "trailscope/density/png.hpp"
 #include "trailscope/trails/trail_set_builder.hpp"
 

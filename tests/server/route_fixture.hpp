@@ -11,7 +11,7 @@
 #include "routes/app.hpp"
 #include "store/embedded_store.hpp"
 #include "test_support.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server::test_routes {
 

@@ -7,8 +7,10 @@
 #include <limits>
 #include <map>
 
+#include "trailscope/analysis/run_table.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/tracker/run_counts.hpp"
 
 namespace trailscope::analysis {
 namespace {
@@ -102,28 +104,20 @@ RunSeries series_of(const TrackerLog& log, const std::vector<double>& max_error)
 }
 
 std::vector<ValueRow> result_rows(const std::vector<const TrackerLog*>& logs, double within_mm) {
-  std::vector<ValueRow> rows = {
-      {"track_share", {}, false},           {"lost_episodes", {}, false},
-      {"tracker_fps", {}, false},           {"accuracy.median_error_mm", {}, false},
-      {"accuracy.p95_error_mm", {}, false}, {"accuracy.frames_all_within", {}, false}};
+  std::vector<ValueRow> rows;
+  for (const RunMetric& m : run_metrics()) rows.push_back({m.name, {}, false});
   for (const TrackerLog* log : logs) {
-    double total_us = 0;
-    for (const FrameLog& f : log->frames) total_us += f.times.total_us();
+    const tracker::StateCounts counts = tracker::count_states(log->frames);
+    const double total_us = counts.tracker_us;
     const double fps = total_us > 0 ? static_cast<double>(log->frames.size()) / (total_us * 1e-6) : kNaN;
-    double median = kNaN, p95 = kNaN, within = kNaN, share = 0, episodes = 0;
+    double median = kNaN, p95 = kNaN, within = kNaN;
     if (!log->truth.empty()) {
       const tracker::Accuracy a = tracker::evaluate_accuracy(*log, within_mm);
       median = a.median_error_mm, p95 = a.p95_error_mm, within = a.frames_all_within;
     }
-    std::size_t track = 0;
-    for (std::size_t i = 0; i < log->frames.size(); ++i) {
-      const auto state = log->frames[i].state;
-      track += state == tracker::State::track;
-      episodes +=
-          state == tracker::State::lost && (i == 0 || log->frames[i - 1].state != tracker::State::lost);
-    }
-    share = static_cast<double>(track) / static_cast<double>(log->frames.size());
-    const std::array<double, 6> figures = {share, episodes, fps, median, p95, within};  // rows' order
+    const double episodes = static_cast<double>(counts.lost_episodes);
+    const double share = static_cast<double>(counts.track) / static_cast<double>(log->frames.size());
+    const std::array<double, 6> figures = {share, episodes, fps, median, p95, within};  // run_metrics() order
     for (std::size_t k = 0; k < figures.size(); ++k) rows[k].values.push_back(figures[k]);
   }
   return rows;

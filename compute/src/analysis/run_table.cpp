@@ -24,6 +24,23 @@ void add_column(RunTable& t, std::vector<std::vector<float>>& columns, const std
 
 }  // namespace
 
+const std::vector<RunMetric>& run_metrics() {
+  static const std::vector<RunMetric> metrics = {{"track_share"},           {"lost_episodes"},
+                                                 {"tracker_fps", false},    {"accuracy.median_error_mm"},
+                                                 {"accuracy.p95_error_mm"}, {"accuracy.frames_all_within"}};
+  return metrics;
+}
+
+const std::vector<std::string>& table_metric_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const RunMetric& m : run_metrics())
+      if (m.in_table) out.push_back(m.name);
+    return out;
+  }();
+  return names;
+}
+
 RunTable run_table(const std::vector<RunFigures>& runs, bool params, bool metrics) {
   if (!params && !metrics) throw invalid_argument("include", "include: name \"params\", \"metrics\" or both");
   if (runs.size() < 2)

@@ -169,4 +169,29 @@ nlohmann::json to_json(const SweepSpec& s) {
           {"axes", axes}};
 }
 
+void run_sweep(const std::vector<TrackerParams>& points, const std::vector<SweepVideo>& videos,
+               const RunOptions& range, const std::function<void(TrackerLog&&)>& on_run,
+               const ProgressFn& progress, const CancelToken* cancel) {
+  const double total = static_cast<double>(points.size() * videos.size());
+  std::size_t done = 0;
+  const auto report = [&](double fraction) {
+    if (progress) progress(fraction / total, "sweep");
+  };
+  for (const auto& params : points)
+    for (const SweepVideo& video : videos) {
+      if (cancel) cancel->throw_if_cancelled();
+      RunOptions ro;
+      ro.video_id = video.id;
+      ro.first_frame = range.first_frame;
+      ro.frame_count = range.frame_count;
+      const ProgressFn run_progress = [&](double f, std::string_view) {
+        if (cancel)
+          cancel->throw_if_cancelled();  // run_tracker stops at the throw; that run is not handed on
+        report(static_cast<double>(done) + f);
+      };
+      on_run(run_tracker(video.path, params, ro, run_progress));
+      report(static_cast<double>(++done));
+    }
+}
+
 }  // namespace trailscope::tracker

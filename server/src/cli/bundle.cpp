@@ -6,8 +6,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
-#include "store/bundle_export.hpp"
-#include "store/bundle_request.hpp"
+#include "formats/bundle_export.hpp"
+#include "jobs/bundle_job.hpp"
 #include "store/embedded_store.hpp"
 #include "trailscope/bundling/graph_io.hpp"
 #include "trailscope/bundling/render.hpp"

@@ -6,7 +6,7 @@
 #include "cli/commands.hpp"
 #include "store/dataset_ingest.hpp"
 #include "store/embedded_store.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/trails/summary.hpp"
 
 namespace trailscope::cli {

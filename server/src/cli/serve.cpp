@@ -8,7 +8,7 @@
 #include "net/ws_hub.hpp"
 #include "store/embedded_store.hpp"
 #include "trailscope/core/backend.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/ocl_info.hpp"
 
 namespace trailscope::cli {

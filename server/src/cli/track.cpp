@@ -14,6 +14,7 @@
 #include "cli/progress_bar.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/json_text.hpp"
+#include "trailscope/tracker/run_counts.hpp"
 #include "trailscope/tracker/tracker_log.hpp"
 
 namespace trailscope::cli {
@@ -65,15 +66,8 @@ double parse_number(const std::string& name, const std::string& text) {
 }
 
 nlohmann::json run_summary(const tracker::TrackerLog& log, double wall_s) {
-  std::size_t states[3] = {0, 0, 0}, lost_episodes = 0;
-  double tracker_us = 0;
-  for (std::size_t i = 0; i < log.frames.size(); ++i) {
-    const auto& f = log.frames[i];
-    ++states[static_cast<int>(f.state)];
-    if (f.state == tracker::State::lost && (i == 0 || log.frames[i - 1].state != tracker::State::lost))
-      ++lost_episodes;
-    tracker_us += f.times.total_us();
-  }
+  const tracker::StateCounts c = tracker::count_states(log.frames);
+  const double tracker_us = c.tracker_us;
   const double n = static_cast<double>(log.frames.size());
   nlohmann::json j = {
       {"run_id", log.header.run_id},
@@ -84,9 +78,9 @@ nlohmann::json run_summary(const tracker::TrackerLog& log, double wall_s) {
       {"tracker_seconds", tracker_us * 1e-6},
       // Frames per second of the tracker itself (its stage times), without reading and decoding PNGs.
       {"fps", tracker_us > 0 ? n / (tracker_us * 1e-6) : 0.0},
-      {"states", {{"SEARCH", states[0]}, {"TRACK", states[1]}, {"LOST", states[2]}}},
-      {"track_share", n > 0 ? static_cast<double>(states[1]) / n : 0.0},
-      {"lost_episodes", lost_episodes},
+      {"states", {{"SEARCH", c.search}, {"TRACK", c.track}, {"LOST", c.lost}}},
+      {"track_share", n > 0 ? static_cast<double>(c.track) / n : 0.0},
+      {"lost_episodes", c.lost_episodes},
       {"accuracy", nullptr}};
   if (!log.truth.empty()) {
     nlohmann::json a = tracker::to_json(tracker::evaluate_accuracy(log));

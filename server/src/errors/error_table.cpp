@@ -3,8 +3,6 @@
 #include <iostream>
 #include <new>
 
-#include <nlohmann/json.hpp>
-
 namespace trailscope::server {
 
 int http_status(Error::Kind kind) noexcept {
@@ -31,24 +29,33 @@ int http_status(Error::Kind kind) noexcept {
   return 500;
 }
 
-Response error_response(int status, const std::string& error, const std::string& param,
-                        const std::string& detail) {
-  return Response::json(status, {{"error", error}, {"detail", detail}, {"param", param}});
+nlohmann::json error_json(const std::string& error, const std::string& param, const std::string& detail) {
+  return {{"error", error}, {"detail", detail}, {"param", param}};
 }
 
-Response error_response(const std::exception& e) {
+Response error_response(int status, const std::string& error, const std::string& param,
+                        const std::string& detail) {
+  return Response::json(status, error_json(error, param, detail));
+}
+
+ErrorBody error_body(const std::exception& e) {
   if (const auto* te = dynamic_cast<const Error*>(&e)) {
     const int status = http_status(te->kind());
     if (status >= 500) std::cerr << "error: " << te->what() << "\n";
-    return error_response(status, to_string(te->kind()), te->param(), te->what());
+    return {status, error_json(to_string(te->kind()), te->param(), te->what())};
   }
   if (const auto* je = dynamic_cast<const nlohmann::json::exception*>(&e))
-    return error_response(400, "invalid_argument", "body", std::string("malformed JSON: ") + je->what());
+    return {400, error_json("invalid_argument", "body", std::string("malformed JSON: ") + je->what())};
   if (dynamic_cast<const std::bad_alloc*>(&e))
-    return error_response(507, "insufficient_storage", "", "the server ran out of memory for this request");
+    return {507, error_json("insufficient_storage", "", "the server ran out of memory for this request")};
   // Only 5xx are logged: they are the server's fault, 4xx are the client's.
   std::cerr << "internal error: " << e.what() << "\n";
-  return error_response(500, "internal", "", "internal server error");
+  return {500, error_json("internal", "", "internal server error")};
+}
+
+Response error_response(const std::exception& e) {
+  ErrorBody b = error_body(e);
+  return Response::json(b.status, std::move(b.body));
 }
 
 }  // namespace trailscope::server

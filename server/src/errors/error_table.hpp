@@ -4,6 +4,8 @@
 #include <exception>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "routes/http_types.hpp"
 #include "trailscope/core/error.hpp"
 
@@ -12,6 +14,18 @@ namespace trailscope::server {
 /// HTTP status of an error kind: invalid_argument 400, not_found 404, conflict 409, payload_too_large 413,
 /// unsupported_format 415, unprocessable 422, cancelled 409, backend and internal 500.
 int http_status(Error::Kind kind) noexcept;
+
+/// The error body {"error", "detail", "param"}.
+nlohmann::json error_json(const std::string& error, const std::string& param, const std::string& detail);
+
+/// An exception as its HTTP status and error body: trailscope::Error by its kind, nlohmann::json parse
+/// errors as 400 (param "body"), std::bad_alloc as 507, anything else as 500 (logged, with a generic
+/// detail). What a failed job or replay records as its "error", and what error_response sends.
+struct ErrorBody {
+  int status = 500;
+  nlohmann::json body;
+};
+ErrorBody error_body(const std::exception& e);
 
 /// The response for any exception: trailscope::Error by its kind, nlohmann::json parse errors as 400
 /// (param "body"), std::bad_alloc as 507, anything else as 500 (logged, with a generic detail).

@@ -4,7 +4,7 @@
 
 #include "errors/error_table.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server {
 
@@ -12,6 +12,13 @@ namespace {
 // A progress event is sent at most this often per job (the final state always is).
 constexpr auto kProgressInterval = std::chrono::milliseconds(100);
 }  // namespace
+
+ProgressFn cancellable(const ProgressFn& progress, const CancelToken& cancel) {
+  return [&progress, &cancel](double fraction, std::string_view stage) {
+    cancel.throw_if_cancelled();
+    progress(fraction, stage);
+  };
+}
 
 nlohmann::json JobState::to_json() const {
   return {{"id", id},       {"kind", kind},       {"state", state},   {"progress", progress},
@@ -152,12 +159,12 @@ void JobManager::worker_loop() {
     } catch (const Error& e) {
       std::lock_guard lock(mu_);
       job->state.state = e.kind() == Error::Kind::cancelled ? "cancelled" : "failed";
-      if (job->state.state == "failed") job->state.error = nlohmann::json::parse(error_response(e).body);
+      if (job->state.state == "failed") job->state.error = error_body(e).body;
       final_state = job->state;
     } catch (const std::exception& e) {
       std::lock_guard lock(mu_);
       job->state.state = "failed";
-      job->state.error = nlohmann::json::parse(error_response(e).body);
+      job->state.error = error_body(e).body;
       final_state = job->state;
     }
     job->work = nullptr;  // release captured resources (upload files, data) early

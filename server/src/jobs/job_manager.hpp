@@ -1,7 +1,8 @@
 #pragma once
-// Long operations (ingest now; bundling and sweeps later) run as jobs on a worker thread. A job reports
-// progress through a ProgressFn and can be cancelled; every change of a job is announced to listeners
-// (the WebSocket hub), throttled so that a fast job does not flood slow clients.
+// Long operations (ingest, bundling, synthetic videos, tracker runs and sweeps: one file per kind in
+// jobs/) run as jobs on a worker thread. A job reports progress through a ProgressFn and can be cancelled;
+// every change of a job is announced to listeners (the WebSocket hub), throttled so that a fast job does
+// not flood slow clients.
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -21,13 +22,13 @@ namespace trailscope::server {
 
 struct JobState {
   std::string id;       ///< "j1", "j2", ...
-  std::string kind;     ///< "ingest", "bundle"
+  std::string kind;     ///< "ingest", "bundle", "synth", "track", "sweep"
   std::string state;    ///< queued | running | done | failed | cancelled
   double progress = 0;  ///< [0, 1]
   std::string stage;
   std::string dataset;  ///< the dataset the job creates or reads (a bundle job: its source, dataset or graph)
   nlohmann::json result;  ///< on done
-  nlohmann::json error;   ///< {"error","detail","param"} on failed
+  nlohmann::json error;   ///< the error body {"error","detail","param"} on failed (errors/error_table.hpp)
   nlohmann::json to_json() const;
 };
 
@@ -73,5 +74,10 @@ class JobManager {
   unsigned next_id_ = 1;
   bool stopping_ = false;
 };
+
+/// `progress` preceded by a cancellation check: the returned function throws Error(cancelled) once
+/// `cancel` is set, so a compute/ function that reports progress stops at its next report and what it
+/// was building is dropped. Both must outlive the returned function.
+ProgressFn cancellable(const ProgressFn& progress, const CancelToken& cancel);
 
 }  // namespace trailscope::server

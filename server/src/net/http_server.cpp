@@ -21,9 +21,10 @@
 #include "errors/error_table.hpp"
 #include "net/websocket_session.hpp"
 #include "net/ws_hub.hpp"
+#include "replay/replay_manager.hpp"
 #include "replay/replay_viewer.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server {
 namespace net = boost::asio;
@@ -33,27 +34,6 @@ using tcp = net::ip::tcp;
 namespace fs = std::filesystem;
 
 namespace {
-
-// The routes whose body is streamed to a file rather than held in memory, with their size limits and
-// the noun their errors use: dataset uploads (kMaxUploadBytes), graph uploads (kMaxGraphUploadBytes),
-// depth-video packs (kMaxVideoUploadBytes), tracker logs and MOTChallenge files (kMaxRunBytes).
-struct UploadRoute {
-  std::uint64_t limit = 0;  ///< 0 = not an upload
-  const char* what = "";
-};
-UploadRoute upload_route(const http::request_header<>& h) {
-  if (h.method() != http::verb::post) return {};
-  const auto is = [&](std::string_view path) {
-    const auto t = h.target();
-    return t.starts_with(path) && (t.size() == path.size() || t[path.size()] == '?');
-  };
-  if (is("/api/v1/datasets")) return {limits::kMaxUploadBytes, "upload"};
-  if (is("/api/v1/graphs")) return {limits::kMaxGraphUploadBytes, "graph upload"};
-  if (is("/api/v1/videos")) return {limits::kMaxVideoUploadBytes, "video upload"};
-  if (is("/api/v1/runs")) return {limits::kMaxRunBytes, "run upload"};
-  if (is("/api/v1/mot")) return {limits::kMaxRunBytes, "MOT file upload"};
-  return {};
-}
 
 // "2 GiB", "256 MiB": the limit as the error detail names it.
 std::string size_text(std::uint64_t bytes) {
@@ -117,6 +97,14 @@ net::awaitable<void> write_response(beast::tcp_stream& stream, Response res, uns
   }
 }
 
+// The body rule of the route the request reaches (the default rule for a malformed target, which the
+// router then refuses).
+BodyRule body_rule(const Router& router, const http::request_header<>& h) {
+  auto parsed = boost::urls::parse_origin_form(h.target());
+  if (!parsed) return {};
+  return router.body_rule(std::string(h.method_string()), parsed->path());
+}
+
 fs::path upload_path(const fs::path& dir) {
   static std::atomic<unsigned> counter{0};
   std::random_device rd;
@@ -140,40 +128,30 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     const unsigned version = h.version();
 
     if (beast::websocket::is_upgrade(h)) {
-      // A replay's viewers: /api/v1/replays/{replay}/ws, answered 404 (or 409 when full) before upgrading.
-      const std::string_view target = h.target();
-      constexpr std::string_view kReplays = "/api/v1/replays/", kWs = "/ws";
-      if (replays && target.starts_with(kReplays) && target.ends_with(kWs) &&
-          target.size() > kReplays.size() + kWs.size()) {
-        const std::string id(target.substr(kReplays.size(), target.size() - kReplays.size() - kWs.size()));
-        const auto replay = replays->find(id);
-        Response refused;
-        if (!replay)
-          refused = error_response(404, "not_found", "replay", "replay '" + id + "' does not exist");
-        else if (!replay->has_room())
-          refused =
-              error_response(409, "conflict", "replay",
-                             "replay '" + id + "' has its limit of " +
-                                 std::to_string(limits::kMaxReplayViewers) + " viewers (kMaxReplayViewers)");
-        if (refused.status >= 400) {
-          auto res = to_beast(std::move(refused), version, false);
-          co_await http::async_write(stream, res, net::redirect_error(net::use_awaitable, ec));
-          break;
+      // The route table decides: an unknown endpoint, an unknown replay or a full one is answered before
+      // upgrading.
+      Router::Upgrade up;
+      std::shared_ptr<Replay> replay;
+      try {
+        up = router.upgrade(to_request(h, {}, {}));
+        if (up.route && up.route->websocket == WebSocketKind::replay) {
+          if (!replays) throw not_found("replay", "replay '" + up.params.at("replay") + "' does not exist");
+          replay = replays->get(up.params.at("replay"));
         }
-        stream.expires_never();
-        std::make_shared<ReplayViewer>(std::move(stream), replay)->run(head.release());
-        co_return;
+      } catch (const std::exception& e) {
+        up.route = nullptr;
+        up.refusal = error_response(e);
       }
-      if (target != "/api/v1/ws") {
-        auto res =
-            to_beast(error_response(404, "not_found", "path",
-                                    "WebSocket endpoints are /api/v1/ws and /api/v1/replays/{replay}/ws"),
-                     version, false);
+      if (!up.route) {
+        auto res = to_beast(std::move(up.refusal), version, false);
         co_await http::async_write(stream, res, net::redirect_error(net::use_awaitable, ec));
         break;
       }
       stream.expires_never();
-      std::make_shared<WebSocketSession>(std::move(stream), hub)->run(head.release());
+      if (replay)
+        std::make_shared<ReplayViewer>(std::move(stream), replay)->run(head.release());
+      else
+        std::make_shared<WebSocketSession>(std::move(stream), hub)->run(head.release());
       co_return;
     }
 
@@ -181,11 +159,10 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
     bool keep_alive = h.keep_alive();
     fs::path file;
     try {
-      const UploadRoute route = upload_route(h);
-      const bool upload = route.limit > 0;
-      const std::uint64_t limit = upload ? route.limit : limits::kMaxRequestBodyBytes;
-      const std::string too_large =
-          std::string(upload ? route.what : "request body") + " exceeds the limit of " + size_text(limit);
+      const BodyRule rule = body_rule(router, h);
+      const bool upload = rule.to_file;
+      const std::uint64_t limit = rule.limit;
+      const std::string too_large = rule.name + " exceeds the limit of " + size_text(limit);
       if (head.content_length() && *head.content_length() > limit)
         throw Error(Error::Kind::payload_too_large, "body", too_large);
       if (upload) {
@@ -205,7 +182,7 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
         keep_alive = p.get().keep_alive();
       } else {
         http::request_parser<http::string_body> p{std::move(head)};
-        p.body_limit(limits::kMaxRequestBodyBytes);
+        p.body_limit(limit);
         co_await http::async_read(stream, buffer, p, net::redirect_error(net::use_awaitable, ec));
         if (ec == http::error::body_limit) throw Error(Error::Kind::payload_too_large, "body", too_large);
         if (ec) throw beast::system_error(ec);

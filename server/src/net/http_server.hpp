@@ -1,6 +1,7 @@
 #pragma once
 // The HTTP/WebSocket server: a listener accepting on one address, one coroutine per connection, N threads
-// on one io_context, and a clean stop on SIGINT/SIGTERM. Limits come from trailscope/core/limits.hpp.
+// on one io_context, and a clean stop on SIGINT/SIGTERM. Timeouts come from limits.hpp, body limits and
+// WebSocket endpoints from the route table (routes/router.hpp).
 // A connection's requests are read and answered one at a time, in order: pipelined requests wait in the
 // socket, so no per-connection queue can grow.
 #include <string>
@@ -20,8 +21,9 @@ struct ServerOptions {
 };
 
 /// Serves `router` until SIGINT/SIGTERM. `on_listening(port)` is called once the socket is bound.
-/// Streamed uploads (POST /api/v1/datasets, graphs, videos, runs) go to `upload_dir` instead of memory.
-/// WebSocket upgrades at /api/v1/replays/{replay}/ws become viewers of `replays` (none when null).
+/// Bodies of routes whose BodyRule says so stream to `upload_dir` instead of memory. WebSocket upgrades
+/// of WebSocketKind::events join `hub`; those of WebSocketKind::replay become viewers of the replay
+/// {replay} of `replays` (none when null).
 /// Throws Error(internal) when the address cannot be bound.
 void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub,
                      const std::filesystem::path& upload_dir,

@@ -3,16 +3,10 @@
 #include <boost/asio/post.hpp>
 
 #include "net/ws_hub.hpp"
-#include "trailscope/core/limits.hpp"
 
 namespace trailscope::server {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
-
-namespace {
-// A client that cannot keep up is dropped rather than letting its queue grow without bound.
-constexpr std::size_t kMaxQueuedMessages = 1024;
-}  // namespace
 
 void WsHub::join(WebSocketSession* s) {
   std::lock_guard lock(mu_);
@@ -45,10 +39,7 @@ WebSocketSession::~WebSocketSession() {
 }
 
 void WebSocketSession::run(beast::http::request<beast::http::empty_body> req) {
-  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-  ws_.read_message_max(limits::kMaxWebSocketMessageBytes);
-  ws_.set_option(websocket::stream_base::decorator(
-      [](websocket::response_type& res) { res.set(beast::http::field::server, "trailscope"); }));
+  set_server_options(ws_);
   ws_.async_accept(req, beast::bind_front_handler(&WebSocketSession::on_accept, shared_from_this()));
 }
 
@@ -77,28 +68,9 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
 }
 
 void WebSocketSession::send(std::shared_ptr<const std::string> message) {
-  boost::asio::post(ws_.get_executor(), beast::bind_front_handler(&WebSocketSession::on_send,
-                                                                  shared_from_this(), std::move(message)));
-}
-
-void WebSocketSession::on_send(std::shared_ptr<const std::string> message) {
-  if (queue_.size() >= kMaxQueuedMessages) {
-    beast::get_lowest_layer(ws_).close();
-    return;
-  }
-  queue_.push_back(std::move(message));
-  if (queue_.size() > 1) return;  // a write is in flight
-  ws_.text(true);
-  ws_.async_write(boost::asio::buffer(*queue_.front()),
-                  beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
-}
-
-void WebSocketSession::on_write(beast::error_code ec, std::size_t) {
-  if (ec) return;
-  queue_.pop_front();
-  if (queue_.empty()) return;
-  ws_.async_write(boost::asio::buffer(*queue_.front()),
-                  beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
+  boost::asio::post(ws_.get_executor(), [self = shared_from_this(), message = std::move(message)]() mutable {
+    self->out_.push({std::move(message), false}, self);
+  });
 }
 
 }  // namespace trailscope::server

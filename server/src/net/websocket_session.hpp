@@ -1,5 +1,4 @@
 #pragma once
-#include <deque>
 #include <memory>
 #include <string>
 
@@ -7,6 +6,8 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+
+#include "net/ws_write_queue.hpp"
 
 namespace trailscope::server {
 
@@ -27,12 +28,10 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   void on_accept(boost::beast::error_code ec);
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t);
-  void on_send(std::shared_ptr<const std::string> message);
-  void on_write(boost::beast::error_code ec, std::size_t);
 
   boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
   boost::beast::flat_buffer buffer_;
-  std::deque<std::shared_ptr<const std::string>> queue_;
+  WsWriteQueue out_{ws_};
   WsHub& hub_;
   bool joined_ = false;
 };

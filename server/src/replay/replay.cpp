@@ -1,40 +1,17 @@
 #include "replay/replay.hpp"
 
 #include <algorithm>
-#include <cstdio>
-#include <random>
 
 #include "errors/error_table.hpp"
+#include "formats/replay_frame.hpp"
 #include "store/dataset_ingest.hpp"
 #include "store/run_store.hpp"
-#include "store/video_store.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/json_text.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/density/png.hpp"
 
 namespace trailscope::server {
 namespace fs = std::filesystem;
-
-namespace {
-/// Frames whose depth fixes a replay's colour range: enough to see the scene, few enough to open fast.
-
-/// "run-20261122-155900-3f2a": the run id format of tracker_log.hpp.
-std::string new_run_id() {
-  std::string t = utc_now_iso();  // 2026-11-22T15:59:00Z
-  std::string compact;
-  for (char c : t.substr(0, 19))
-    if (c != '-' && c != ':') compact += c == 'T' ? '-' : c;
-  std::random_device rd;
-  char suffix[8];
-  std::snprintf(suffix, sizeof suffix, "%04x", rd() & 0xffffu);
-  return "run-" + compact + "-" + suffix;
-}
-
-void put_u32le(std::string& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
-}
-}  // namespace
 
 Replay::Replay(std::string id, std::string video_id, const fs::path& video,
                const tracker::TrackerParams& params, const std::string& colormap,
@@ -47,57 +24,43 @@ Replay::Replay(std::string id, std::string video_id, const fs::path& video,
       runs_(std::move(runs)) {
   reader_ = std::make_unique<tof::DepthVideoReader>(video);
   info_ = reader_->info();
-  // The tracker is built here, not on the thread, so bad parameters or intrinsics are this request's 400.
-  tracker::Tracker tracker(params_, info_.intrinsics);
-  header_.run_id = new_run_id();
-  header_.video_id = video_id_;
-  for (const auto& p : tracker::parameter_infos())
-    header_.params.push_back({p.name, tracker::get_param(params_, p.name)});
-  header_.template_bank = tracker.templates();
-  header_.intrinsics = info_.intrinsics;
-  header_.fps = info_.fps;
-  header_.frame_count = info_.frame_count;
+  // The run is prepared here, not on the thread, so bad parameters or intrinsics are this request's 400.
+  tracker::RunOptions ro;
+  ro.video_id = video_id_;
+  run_ = std::make_unique<tracker::TrackerRun>(video, params_, ro);
+  header_ = run_->header();
   header_.created_utc = created_;
-  header_.video_source = info_.source;
   range_ = tof::video_depth_range(*reader_);  // one colour range for the whole replay
   frames_.reserve(info_.frame_count);
-  worker_ = std::thread([this, video, t = std::move(tracker)]() mutable {
+  worker_ = std::thread([this] {
     try {
-      tof::DepthVideoReader reader(video);
-      for (std::size_t i = 0; i < info_.frame_count; ++i) {
-        if (stop_) break;
-        tof::DepthFrame frame = reader.read_frame(i);
-        tracker::FrameLog fl = t.process(frame);
-        std::lock_guard lock(mu_);
-        frames_.push_back(std::move(fl));
-        truth_.push_back(std::move(frame.truth));
-      }
+      tracker::TrackerLog log =
+          run_->run({}, [this](const tracker::FrameLog& f, const std::optional<tof::FrameTruth>& truth) {
+            if (stop_) return false;
+            std::lock_guard lock(mu_);
+            frames_.push_back(f);
+            truth_.push_back(truth);
+            return true;
+          });
       if (stop_) {
         std::lock_guard lock(mu_);
         done_ = true;
         return;
       }
-      tracker::TrackerLog log;
-      {
-        std::lock_guard lock(mu_);
-        log.header = header_;
-        log.frames = frames_;
-        if (info_.has_truth) log.truth = truth_;
-      }
-      log.header.frame_count = log.frames.size();
+      log.header.created_utc = created_;
       const nlohmann::json row = runs_->put(std::move(log), "replay");
       std::vector<std::weak_ptr<ReplayListener>> ls;
       {
         std::lock_guard lock(mu_);
-        run_ = row.at("id").get<std::string>();
+        run_id_ = row.at("id").get<std::string>();
         done_ = true;
         ls = listeners_;
       }
       for (auto& w : ls)
-        if (auto l = w.lock()) l->on_run(run_);
+        if (auto l = w.lock()) l->on_run(run_id_);
     } catch (const std::exception& e) {
       std::lock_guard lock(mu_);
-      error_ = nlohmann::json::parse(error_response(e).body);
+      error_ = error_body(e).body;
       done_ = true;
     }
   });
@@ -128,7 +91,7 @@ nlohmann::json Replay::to_json() const {
           {"ws", "/api/v1/replays/" + id_ + "/ws"},
           {"computed", frames_.size()},
           {"done", done_},
-          {"run", run_.empty() ? nlohmann::json(nullptr) : nlohmann::json(run_)},
+          {"run", run_id_.empty() ? nlohmann::json(nullptr) : nlohmann::json(run_id_)},
           {"error", error_},
           {"viewers", viewers}};
 }
@@ -168,24 +131,9 @@ std::optional<std::string> Replay::frame_message(std::size_t i) const {
     frame = reader_->read_frame(i);
   }
   const int w = info_.intrinsics.width, h = info_.intrinsics.height;
-  const std::string depth = density::encode_png(tof::render_depth(frame.depth_mm, w, h, range_, *cmap_));
-  const std::string amplitude = density::encode_png(tof::render_amplitude(frame.amplitude, w, h));
-  const nlohmann::json j = {{"type", "frame"},
-                            {"index", i},
-                            {"timestamp_s", fl.timestamp_s},
-                            {"frame", tracker::frame_to_json(fl)},
-                            {"truth", truth ? tof::truth_to_json(*truth) : nlohmann::json(nullptr)},
-                            {"depth_png", {0, depth.size()}},
-                            {"amplitude_png", {depth.size(), amplitude.size()}}};
-  const std::string text = json_text(j);
-  std::string out;
-  out.reserve(8 + text.size() + depth.size() + amplitude.size());
-  out += "TSRF";
-  put_u32le(out, static_cast<std::uint32_t>(text.size()));
-  out += text;
-  out += depth;
-  out += amplitude;
-  return out;
+  return encode_replay_frame(i, fl, truth,
+                             density::encode_png(tof::render_depth(frame.depth_mm, w, h, range_, *cmap_)),
+                             density::encode_png(tof::render_amplitude(frame.amplitude, w, h)));
 }
 
 void Replay::attach(const std::shared_ptr<ReplayListener>& l) {
@@ -227,68 +175,6 @@ void Replay::stop() {
   }
   for (auto& w : ls)
     if (auto l = w.lock()) l->on_close();
-}
-
-ReplayManager::ReplayManager(std::shared_ptr<VideoStore> videos, std::shared_ptr<RunStore> runs)
-    : videos_(std::move(videos)), runs_(std::move(runs)) {}
-
-ReplayManager::~ReplayManager() {
-  std::map<std::uint64_t, std::shared_ptr<Replay>> all;
-  {
-    std::lock_guard lock(mu_);
-    all.swap(replays_);
-  }
-  for (auto& [n, r] : all) r->stop();
-}
-
-std::shared_ptr<Replay> ReplayManager::create(const std::string& video, const tracker::TrackerParams& params,
-                                              const std::string& colormap) {
-  const fs::path pack = videos_->pack_path(video);
-  std::lock_guard lock(mu_);
-  if (replays_.size() >= limits::kMaxReplays)
-    throw Error(Error::Kind::conflict, "replay",
-                "at most " + std::to_string(limits::kMaxReplays) +
-                    " replays run at once (kMaxReplays); delete one first");
-  const std::uint64_t n = next_;
-  auto r = std::make_shared<Replay>("rp" + std::to_string(n), video, pack, params, colormap, runs_);
-  ++next_;
-  replays_[n] = r;
-  return r;
-}
-
-std::shared_ptr<Replay> ReplayManager::find(const std::string& id) const {
-  std::lock_guard lock(mu_);
-  for (const auto& [n, r] : replays_)
-    if (r->id() == id) return r;
-  return nullptr;
-}
-
-std::shared_ptr<Replay> ReplayManager::get(const std::string& id) const {
-  auto r = find(id);
-  if (!r) throw not_found("replay", "replay '" + id + "' does not exist");
-  return r;
-}
-
-std::vector<nlohmann::json> ReplayManager::list() const {
-  std::lock_guard lock(mu_);
-  std::vector<nlohmann::json> out;
-  for (const auto& [n, r] : replays_) out.push_back(r->to_json());
-  return out;
-}
-
-void ReplayManager::remove(const std::string& id) {
-  std::shared_ptr<Replay> r;
-  {
-    std::lock_guard lock(mu_);
-    for (auto it = replays_.begin(); it != replays_.end(); ++it)
-      if (it->second->id() == id) {
-        r = it->second;
-        replays_.erase(it);
-        break;
-      }
-  }
-  if (!r) throw not_found("replay", "replay '" + id + "' does not exist");
-  r->stop();
 }
 
 }  // namespace trailscope::server

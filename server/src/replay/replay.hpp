@@ -1,14 +1,15 @@
 #pragma once
-// Live replays (tracker issue item 6): the tracker runs over a stored video on a background thread, frame
-// by frame, keeping every FrameLog in memory; viewers (WebSocket connections, replay_viewer.hpp) play,
-// pause, seek, step and change speed on their own cursors over the frames computed so far and wait for
-// those not yet computed. When the run ends its log goes into the run store and every viewer is told
-// ({"type":"run"}). The wire protocol is proto/replay_ws.md.
+// A live replay: the tracker runs over a stored video on a background thread (tracker::TrackerRun, which
+// assembles the run's header and log), frame by frame, keeping every FrameLog in memory; viewers
+// (WebSocket connections, replay_viewer.hpp) play, pause, seek, step and change speed on their own cursors
+// over the frames computed so far and wait for those not yet computed. When the run ends its log goes into
+// the run store and every viewer is told ({"type":"run"}). The wire protocol is proto/replay_ws.md; its
+// frame message is encoded by formats/replay_frame.hpp, and the replays of a server are kept by
+// ReplayManager (replay_manager.hpp).
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -25,7 +26,6 @@
 
 namespace trailscope::server {
 
-class VideoStore;
 class RunStore;
 
 /// What a replay tells its viewers from other threads. Implementations post to their own executor.
@@ -78,8 +78,6 @@ class Replay {
   void stop();
 
  private:
-  void track(std::filesystem::path video);
-
   const std::string id_, video_id_;
   tracker::TrackerParams params_;
   tof::VideoInfo info_;
@@ -93,41 +91,16 @@ class Replay {
   std::vector<tracker::FrameLog> frames_;
   std::vector<std::optional<tof::FrameTruth>> truth_;
   bool done_ = false;
-  std::string run_;
+  std::string run_id_;  ///< the stored run, once tracking ended
   nlohmann::json error_ = nullptr;
   std::vector<std::weak_ptr<ReplayListener>> listeners_;
 
   mutable std::mutex reader_mu_;  ///< the viewers' shared reader (a reader is not thread-safe)
   std::unique_ptr<tof::DepthVideoReader> reader_;
 
+  std::unique_ptr<tracker::TrackerRun> run_;  ///< the tracking, prepared in the constructor
   std::atomic<bool> stop_{false};
   std::thread worker_;
-};
-
-/// The live replays of a server: at most limits::kMaxReplays at once.
-class ReplayManager {
- public:
-  ReplayManager(std::shared_ptr<VideoStore> videos, std::shared_ptr<RunStore> runs);
-  ~ReplayManager();  ///< stops every replay
-
-  /// Starts a replay of stored video `video`. Throws not_found("video"), Error(conflict, "replay") at
-  /// limits::kMaxReplays, and Replay's errors.
-  std::shared_ptr<Replay> create(const std::string& video, const tracker::TrackerParams& params,
-                                 const std::string& colormap);
-  /// Throws not_found("replay").
-  std::shared_ptr<Replay> get(const std::string& id) const;
-  /// nullptr when there is none (the WebSocket upgrade path answers 404 itself).
-  std::shared_ptr<Replay> find(const std::string& id) const;
-  std::vector<nlohmann::json> list() const;
-  /// Stops the replay and closes its viewers. Throws not_found("replay").
-  void remove(const std::string& id);
-
- private:
-  std::shared_ptr<VideoStore> videos_;
-  std::shared_ptr<RunStore> runs_;
-  mutable std::mutex mu_;
-  std::map<std::uint64_t, std::shared_ptr<Replay>> replays_;  ///< by number, oldest first
-  std::uint64_t next_ = 1;
 };
 
 }  // namespace trailscope::server

@@ -7,7 +7,6 @@
 
 #include "errors/error_table.hpp"
 #include "trailscope/core/json_text.hpp"
-#include "trailscope/core/limits.hpp"
 
 namespace trailscope::server {
 namespace beast = boost::beast;
@@ -15,13 +14,17 @@ namespace websocket = beast::websocket;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-// A client that reads no text messages at all is dropped rather than letting its queue grow.
-constexpr std::size_t kMaxQueuedMessages = 1024;
 // How often a viewer looks again for a frame the tracker has not computed yet.
 constexpr auto kPollInterval = std::chrono::milliseconds(10);
 
+/// An error body (errors/error_table.hpp) as a WebSocket message.
+nlohmann::json error_message(nlohmann::json body) {
+  body["type"] = "error";
+  return body;
+}
+
 nlohmann::json error_message(const std::string& param, const std::string& detail) {
-  return {{"type", "error"}, {"error", "invalid_argument"}, {"detail", detail}, {"param", param}};
+  return error_message(error_json("invalid_argument", param, detail));
 }
 
 /// An integer field of an op, or an error naming it.
@@ -35,17 +38,30 @@ std::optional<std::int64_t> integer_field(const nlohmann::json& j, const char* n
 }  // namespace
 
 ReplayViewer::ReplayViewer(beast::tcp_stream&& stream, std::shared_ptr<Replay> replay)
-    : ws_(std::move(stream)), timer_(ws_.get_executor()), replay_(std::move(replay)) {}
+    : ws_(std::move(stream)),
+      timer_(ws_.get_executor()),
+      replay_(std::move(replay)),
+      out_(ws_, {.written =
+                     [this](const WsWriteQueue::Message& m) {
+                       if (m.binary) --frames_in_flight_;
+                     },
+                 .drained =
+                     [this] {
+                       if (closed_) {  // a close was asked for while writing: now the stream is free for it
+                         ws_.async_close(websocket::close_code::going_away,
+                                         [self = shared_from_this()](beast::error_code) {});
+                         return;
+                       }
+                       pump();
+                     },
+                 .failed = [this] { closed_ = true; }}) {}
 
 ReplayViewer::~ReplayViewer() {
   if (attached_) replay_->detach(this);
 }
 
 void ReplayViewer::run(beast::http::request<beast::http::empty_body> req) {
-  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-  ws_.read_message_max(limits::kMaxWebSocketMessageBytes);
-  ws_.set_option(websocket::stream_base::decorator(
-      [](websocket::response_type& res) { res.set(beast::http::field::server, "trailscope"); }));
+  set_server_options(ws_);
   ws_.async_accept(req, beast::bind_front_handler(&ReplayViewer::on_accept, shared_from_this()));
 }
 
@@ -55,8 +71,7 @@ void ReplayViewer::on_accept(beast::error_code ec) {
     replay_->attach(shared_from_this());
     attached_ = true;
   } catch (const Error& e) {
-    send_text(
-        {{"type", "error"}, {"error", to_string(e.kind())}, {"detail", e.what()}, {"param", e.param()}});
+    send_text(error_message(error_body(e).body));
     on_close();
     return;
   }
@@ -146,39 +161,14 @@ void ReplayViewer::send_text(const nlohmann::json& j) {
   enqueue({std::make_shared<const std::string>(json_text(j)), false});
 }
 
-void ReplayViewer::enqueue(Out out) {
+void ReplayViewer::enqueue(WsWriteQueue::Message out) {
   if (closed_) return;
-  if (queue_.size() >= kMaxQueuedMessages) {
-    closed_ = true;
-    beast::get_lowest_layer(ws_).close();
-    return;
-  }
-  if (out.binary) ++frames_in_flight_;
-  queue_.push_back(std::move(out));
-  if (queue_.size() > 1) return;  // a write is in flight
-  ws_.binary(queue_.front().binary);
-  ws_.async_write(boost::asio::buffer(*queue_.front().bytes),
-                  beast::bind_front_handler(&ReplayViewer::on_write, shared_from_this()));
-}
-
-void ReplayViewer::on_write(beast::error_code ec, std::size_t) {
-  if (ec) {
+  const bool binary = out.binary;
+  if (!out_.push(std::move(out), shared_from_this())) {
     closed_ = true;
     return;
   }
-  if (queue_.front().binary) --frames_in_flight_;
-  queue_.pop_front();
-  if (!queue_.empty()) {
-    ws_.binary(queue_.front().binary);
-    ws_.async_write(boost::asio::buffer(*queue_.front().bytes),
-                    beast::bind_front_handler(&ReplayViewer::on_write, shared_from_this()));
-    return;
-  }
-  if (closed_) {  // a close was asked for while writing: now the stream is free for it
-    ws_.async_close(websocket::close_code::going_away, [self = shared_from_this()](beast::error_code) {});
-    return;
-  }
-  pump();
+  if (binary) ++frames_in_flight_;
 }
 
 void ReplayViewer::pump() {
@@ -190,11 +180,11 @@ void ReplayViewer::pump() {
     enqueue({std::make_shared<const std::string>(std::move(*msg)), true});
   } catch (const std::exception& e) {
     // The video went away under the replay (deleted): say so, stop playing, keep the connection.
-    const Response r = error_response(e);
-    const auto body = nlohmann::json::parse(r.body);
+    nlohmann::json body = error_body(e).body;
+    body["param"] = "frame";
     want_.reset();
     playing_ = false;
-    send_text({{"type", "error"}, {"error", body["error"]}, {"detail", body["detail"]}, {"param", "frame"}});
+    send_text(error_message(std::move(body)));
   }
 }
 
@@ -261,7 +251,7 @@ void ReplayViewer::on_close() {
     self->closed_ = true;
     self->playing_ = false;
     self->timer_.cancel();
-    if (self->queue_.empty())
+    if (self->out_.empty())
       self->ws_.async_close(websocket::close_code::going_away, [self](beast::error_code) {});
     // else on_write closes once the write in progress completes
   });

@@ -3,7 +3,6 @@
 // Everything of a viewer runs on its connection's strand; the replay reaches it only through
 // ReplayListener, which posts there.
 #include <chrono>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +13,7 @@
 #include <boost/beast/websocket.hpp>
 #include <nlohmann/json.hpp>
 
+#include "net/ws_write_queue.hpp"
 #include "replay/replay.hpp"
 
 namespace trailscope::server {
@@ -35,10 +35,6 @@ class ReplayViewer : public ReplayListener, public std::enable_shared_from_this<
   void on_close() override;
 
  private:
-  struct Out {
-    std::shared_ptr<const std::string> bytes;
-    bool binary = false;
-  };
   void on_accept(boost::beast::error_code ec);
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t);
@@ -46,8 +42,7 @@ class ReplayViewer : public ReplayListener, public std::enable_shared_from_this<
   std::optional<nlohmann::json> apply(const std::string& text);
   void send_text(const nlohmann::json& j);
   void send_state();
-  void enqueue(Out out);
-  void on_write(boost::beast::error_code ec, std::size_t);
+  void enqueue(WsWriteQueue::Message out);
   /// Sends the wanted frame when it is computed and the in-flight limit allows.
   void pump();
   /// One playback step: advances the cursor to the video time that wall time has reached.
@@ -58,7 +53,7 @@ class ReplayViewer : public ReplayListener, public std::enable_shared_from_this<
   boost::beast::flat_buffer buffer_;
   boost::asio::steady_timer timer_;
   std::shared_ptr<Replay> replay_;
-  std::deque<Out> queue_;
+  WsWriteQueue out_;
   int frames_in_flight_ = 0;
   bool closed_ = false;
   bool attached_ = false;

@@ -14,8 +14,9 @@
 #include "store/sweep_store.hpp"
 #include "store/run_store.hpp"
 #include "store/video_store.hpp"
-#include "replay/replay.hpp"
+#include "replay/replay_manager.hpp"
 #include "store/tile_cache.hpp"
+#include "trailscope/core/error.hpp"
 #include "trailscope/density/renderer.hpp"
 
 namespace trailscope::server {
@@ -44,6 +45,14 @@ struct App {
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});
 };
+
+/// `*part` of the App, or Error(internal, "this server was started without <what>") when the server was
+/// started without it (no data folder).
+template <typename T>
+T& need(const std::shared_ptr<T>& part, const char* what) {
+  if (!part) throw Error(Error::Kind::internal, "", std::string("this server was started without ") + what);
+  return *part;
+}
 
 /// The one table of routes (see proto/openapi.yaml, which lists the same).
 Router make_router(App& app);

@@ -1,7 +1,7 @@
 // POST /api/v1/compare: stored runs of one video side by side (compute/analysis/run_compare): aligned
 // series, the frames where they disagree most, parameter and result differences.
 #include "routes/handlers.hpp"
-#include "routes/tracker_body.hpp"
+#include "params/json_fields.hpp"
 #include "store/run_store.hpp"
 #include "trailscope/analysis/run_compare.hpp"
 #include "trailscope/core/error.hpp"
@@ -11,7 +11,7 @@ namespace trailscope::server::handlers {
 
 Response compare_runs(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {});
-  if (!app.runs) throw Error(Error::Kind::internal, "", "this server was started without a run store");
+  need(app.runs, "a run store");
   const nlohmann::json j = parse_body_object(req.body, {"runs", "top", "miss_mm", "within_mm"});
   if (!j.contains("runs") || !j["runs"].is_array())
     throw invalid_argument(

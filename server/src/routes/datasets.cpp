@@ -1,12 +1,12 @@
 #include <chrono>
-#include <fstream>
-#include <random>
 
 #include "routes/handlers.hpp"
-#include "routes/params.hpp"
-#include "store/dataset_ingest.hpp"
+#include "params/query_params.hpp"
+#include "params/upload_body.hpp"
+#include "params/tile_params.hpp"
+#include "jobs/ingest_job.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/ingest/format.hpp"
 #include "trailscope/trails/summary.hpp"
 
@@ -29,7 +29,7 @@ Response delete_dataset(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
   const std::string id = p.at("dataset");
   app.store->remove(id);
-  app.tiles.erase_prefix(id + "@");
+  app.tiles.erase_prefix(params::dataset_cache_prefix(id));
   return Response::no_content();
 }
 
@@ -47,32 +47,9 @@ Response create_dataset(App& app, const Request& req, const PathParams&) {
   }
   if (app.store->contains(ing.name))
     throw Error(Error::Kind::conflict, "name", "dataset '" + ing.name + "' already exists");
-  if (!req.body_file.empty()) {
-    ing.file = req.body_file;
-  } else {
-    if (req.body.empty()) throw invalid_argument("body", "body: the upload is empty");
-    // Small bodies (tests, scripts) arrive in memory; ingest reads files, so spill it.
-    std::random_device rd;
-    ing.file = app.upload_dir / ("inline-" + std::to_string(rd()) + std::to_string(rd()));
-    std::ofstream out(ing.file, std::ios::binary);
-    out.write(req.body.data(), static_cast<std::streamsize>(req.body.size()));
-    if (!out) throw Error(Error::Kind::internal, "", "cannot write upload to " + ing.file.string());
-  }
-  auto store = app.store;
-  const JobState job = app.jobs.submit("ingest", ing.name,
-                                       [store, ing](const ProgressFn& progress, const CancelToken& cancel) {
-                                         struct RemoveFile {
-                                           fs::path p;
-                                           ~RemoveFile() {
-                                             std::error_code ec;
-                                             fs::remove(p, ec);
-                                           }
-                                         } cleanup{ing.file};
-                                         return ingest_into_store(*store, ing, progress, &cancel)->to_json();
-                                       });
-  Response res = Response::json(202, {{"job", job.to_json()}});
-  res.headers.emplace_back("Location", "/api/v1/jobs/" + job.id);
-  return res;
+  ing.file = upload_file(req, app.upload_dir);
+  const JobState job = submit_ingest(app.jobs, app.store, std::move(ing));
+  return Response::json_at(202, {{"job", job.to_json()}}, "/api/v1/jobs/" + job.id);
 }
 
 Response summary(App& app, const Request& req, const PathParams& p) {

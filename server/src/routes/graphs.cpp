@@ -1,5 +1,5 @@
 #include "routes/handlers.hpp"
-#include "routes/upload_body.hpp"
+#include "params/upload_body.hpp"
 #include "store/dataset_ingest.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
@@ -13,32 +13,11 @@ constexpr std::size_t kMaxGraphNameLength = 128;
 const std::string kTooLarge =
     "graph upload exceeds the limit of " + std::to_string(limits::kMaxGraphUploadBytes >> 20) + " MiB";
 
-GraphStore& graph_store(App& app) {
-  if (!app.graphs) throw Error(Error::Kind::internal, "", "this server was started without a graph store");
-  return *app.graphs;
-}
-
 }  // namespace
-
-Response list_graphs(App& app, const Request& req, const PathParams&) {
-  reject_unknown_params(req, {});
-  return Response::json(200, {{"graphs", graph_store(app).list()}});
-}
-
-Response get_graph(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, {});
-  return Response::json(200, graph_store(app).meta(p.at("graph")));
-}
-
-Response delete_graph(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, {});
-  graph_store(app).remove(p.at("graph"));
-  return Response::no_content();
-}
 
 Response create_graph(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {"format", "name"});
-  GraphStore& graphs = graph_store(app);
+  GraphStore& graphs = need(app.graphs, "a graph store");
   std::optional<bundling::GraphFormat> format;
   if (auto f = req.query.find("format"); f != req.query.end() && f->second != "auto")
     format = bundling::parse_graph_format(f->second, "format");
@@ -70,9 +49,7 @@ Response create_graph(App& app, const Request& req, const PathParams&) {
   }
   g.created = utc_now_iso();
   const auto stored = graphs.put(std::move(g));
-  Response res = Response::json(201, stored->to_json());
-  res.headers.emplace_back("Location", "/api/v1/graphs/" + stored->id);
-  return res;
+  return Response::json_at(201, stored->to_json(), "/api/v1/graphs/" + stored->id);
 }
 
 }  // namespace trailscope::server::handlers

@@ -21,46 +21,32 @@ Response cancel_job(App& app, const Request& req, const PathParams& p);
 
 Response density_tile(App& app, const Request& req, const PathParams& p);
 
-Response list_graphs(App& app, const Request& req, const PathParams& p);
 Response create_graph(App& app, const Request& req, const PathParams& p);
-Response get_graph(App& app, const Request& req, const PathParams& p);
-Response delete_graph(App& app, const Request& req, const PathParams& p);
 
 Response bundle_params(App& app, const Request& req, const PathParams& p);
-Response list_bundles(App& app, const Request& req, const PathParams& p);
 Response create_bundle(App& app, const Request& req, const PathParams& p);
-Response get_bundle(App& app, const Request& req, const PathParams& p);
 Response delete_bundle(App& app, const Request& req, const PathParams& p);
 Response bundle_image(App& app, const Request& req, const PathParams& p);
 Response bundle_polylines(App& app, const Request& req, const PathParams& p);
 Response bundle_tile(App& app, const Request& req, const PathParams& p);
 
-Response list_videos(App& app, const Request& req, const PathParams& p);
 Response create_video(App& app, const Request& req, const PathParams& p);
 Response synth_video(App& app, const Request& req, const PathParams& p);
-Response get_video(App& app, const Request& req, const PathParams& p);
-Response delete_video(App& app, const Request& req, const PathParams& p);
 Response video_frame(App& app, const Request& req, const PathParams& p);
 Response video_depth_png(App& app, const Request& req, const PathParams& p);
 Response video_amplitude_png(App& app, const Request& req, const PathParams& p);
 
 Response tracker_params(App& app, const Request& req, const PathParams& p);
-Response list_runs(App& app, const Request& req, const PathParams& p);
 Response create_run(App& app, const Request& req, const PathParams& p);
 Response track_run(App& app, const Request& req, const PathParams& p);
 Response get_run(App& app, const Request& req, const PathParams& p);
-Response delete_run(App& app, const Request& req, const PathParams& p);
 Response run_log(App& app, const Request& req, const PathParams& p);
 Response run_frames(App& app, const Request& req, const PathParams& p);
 
-Response list_mot(App& app, const Request& req, const PathParams& p);
 Response create_mot(App& app, const Request& req, const PathParams& p);
-Response get_mot(App& app, const Request& req, const PathParams& p);
-Response delete_mot(App& app, const Request& req, const PathParams& p);
 Response compute_metrics(App& app, const Request& req, const PathParams& p);
 
 Response create_sweep(App& app, const Request& req, const PathParams& p);
-Response list_sweeps(App& app, const Request& req, const PathParams& p);
 Response get_sweep(App& app, const Request& req, const PathParams& p);
 Response importance(App& app, const Request& req, const PathParams& p);
 Response create_projection(App& app, const Request& req, const PathParams& p);
@@ -70,6 +56,9 @@ Response list_replays(App& app, const Request& req, const PathParams& p);
 Response create_replay(App& app, const Request& req, const PathParams& p);
 Response get_replay(App& app, const Request& req, const PathParams& p);
 Response delete_replay(App& app, const Request& req, const PathParams& p);
+/// The check of a replay's WebSocket upgrade: 404 "replay" when unknown, 409 when it has its
+/// limits::kMaxReplayViewers viewers; else 101.
+Response replay_viewer_check(App& app, const Request& req, const PathParams& p);
 
 Response static_file(App& app, const Request& req, const PathParams& p);
 

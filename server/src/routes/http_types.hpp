@@ -43,6 +43,12 @@ struct Response {
     r.status = status, r.body = json_text(j);
     return r;
   }
+  /// `status` (201 created, 202 accepted) with the JSON body and a Location header naming the resource.
+  static Response json_at(int status, const nlohmann::json& j, const std::string& location) {
+    Response r = json(status, j);
+    r.headers.emplace_back("Location", location);
+    return r;
+  }
   static Response no_content() { return status_only(204); }
   static Response status_only(int status) {
     Response r;

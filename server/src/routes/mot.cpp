@@ -1,8 +1,8 @@
 // MOTChallenge text files (ground truth, tracker results, 3D points) and TrackEval-exact metrics of one
 // stored result against one stored ground truth.
 #include "routes/handlers.hpp"
-#include "routes/tracker_body.hpp"
-#include "routes/upload_body.hpp"
+#include "params/json_fields.hpp"
+#include "params/upload_body.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/metrics/evaluate.hpp"
@@ -12,11 +12,6 @@ namespace trailscope::server::handlers {
 namespace {
 const std::string kTooLarge =
     "MOT file upload exceeds the limit of " + std::to_string(limits::kMaxRunBytes >> 20) + " MiB";
-
-MotStore& mot_store(App& app) {
-  if (!app.mot) throw Error(Error::Kind::internal, "", "this server was started without a MOT store");
-  return *app.mot;
-}
 
 /// The stored file named by body field `field`, which must be of one of `kinds` for the similarity.
 std::string mot_text(MotStore& store, const nlohmann::json& body, const std::string& field,
@@ -31,14 +26,9 @@ std::string mot_text(MotStore& store, const nlohmann::json& body, const std::str
 }
 }  // namespace
 
-Response list_mot(App& app, const Request& req, const PathParams&) {
-  reject_unknown_params(req, {});
-  return Response::json(200, {{"files", mot_store(app).list()}});
-}
-
 Response create_mot(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {"kind", "name"});
-  MotStore& store = mot_store(app);
+  MotStore& store = need(app.mot, "a MOT store");
   const auto k = req.query.find("kind");
   if (k == req.query.end()) throw invalid_argument("kind", "kind: required (gt, result or points)");
   if (k->second != "gt" && k->second != "result" && k->second != "points")
@@ -46,20 +36,7 @@ Response create_mot(App& app, const Request& req, const PathParams&) {
   const auto n = req.query.find("name");
   const nlohmann::json row = store.put(n == req.query.end() ? "" : n->second, k->second,
                                        upload_bytes(req, limits::kMaxRunBytes, kTooLarge));
-  Response res = Response::json(201, row);
-  res.headers.emplace_back("Location", "/api/v1/mot/" + row.at("id").get<std::string>());
-  return res;
-}
-
-Response get_mot(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, {});
-  return Response::json(200, mot_store(app).meta(p.at("mot")));
-}
-
-Response delete_mot(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, {});
-  mot_store(app).remove(p.at("mot"));
-  return Response::no_content();
+  return Response::json_at(201, row, "/api/v1/mot/" + row.at("id").get<std::string>());
 }
 
 Response compute_metrics(App& app, const Request& req, const PathParams&) {
@@ -77,7 +54,7 @@ Response compute_metrics(App& app, const Request& req, const PathParams&) {
   options.d_max = number_field(j, "d_max", options.d_max);
   options.frames = integer_field(j, "frames", options.frames);
   const bool per_frame = bool_field(j, "per_frame", false);
-  MotStore& store = mot_store(app);
+  MotStore& store = need(app.mot, "a MOT store");
   const bool iou = options.kind == metrics::SimilarityKind::iou;
   const std::string gt = mot_text(store, j, "gt", iou ? "gt" : "points", similarity);
   const std::string run = mot_text(store, j, "run", iou ? "result" : "points", similarity);

@@ -2,9 +2,9 @@
 // (their varying parameters and result figures), with its quality.
 #include "routes/handlers.hpp"
 #include "routes/run_rows.hpp"
-#include "routes/tracker_body.hpp"
+#include "params/json_fields.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/projection/report.hpp"
 
 namespace trailscope::server::handlers {

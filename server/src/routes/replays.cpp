@@ -1,5 +1,6 @@
 #include "routes/handlers.hpp"
-#include "routes/tracker_body.hpp"
+#include "params/json_fields.hpp"
+#include "limits.hpp"
 #include "trailscope/core/error.hpp"
 
 namespace trailscope::server::handlers {
@@ -8,25 +9,21 @@ namespace {
 /// Depth colours of a replay unless the request names another colormap.
 constexpr char kDefaultColormap[] = "viridis";
 
-ReplayManager& replay_manager(App& app) {
-  if (!app.replays) throw Error(Error::Kind::internal, "", "this server was started without a data folder");
-  return *app.replays;
-}
 }  // namespace
 
 Response list_replays(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {});
-  return Response::json(200, {{"replays", replay_manager(app).list()}});
+  return Response::json(200, {{"replays", need(app.replays, "a data folder").list()}});
 }
 
 Response get_replay(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
-  return Response::json(200, replay_manager(app).get(p.at("replay"))->to_json());
+  return Response::json(200, need(app.replays, "a data folder").get(p.at("replay"))->to_json());
 }
 
 Response delete_replay(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
-  replay_manager(app).remove(p.at("replay"));
+  need(app.replays, "a data folder").remove(p.at("replay"));
   return Response::no_content();
 }
 
@@ -36,10 +33,19 @@ Response create_replay(App& app, const Request& req, const PathParams&) {
   const std::string video = string_field(j, "video");
   const tracker::TrackerParams params = parse_tracker_params(j.value("params", nlohmann::json()));
   const std::string colormap = j.contains("colormap") ? string_field(j, "colormap") : kDefaultColormap;
-  const auto replay = replay_manager(app).create(video, params, colormap);
-  Response res = Response::json(201, replay->to_json());
-  res.headers.emplace_back("Location", "/api/v1/replays/" + replay->id());
-  return res;
+  const auto replay = need(app.replays, "a data folder").create(video, params, colormap);
+  return Response::json_at(201, replay->to_json(), "/api/v1/replays/" + replay->id());
+}
+
+Response replay_viewer_check(App& app, const Request&, const PathParams& p) {
+  const std::string id = p.at("replay");
+  // A server without a data folder has no replays: every replay is unknown.
+  if (!app.replays) throw not_found("replay", "replay '" + id + "' does not exist");
+  if (!app.replays->get(id)->has_room())
+    throw Error(Error::Kind::conflict, "replay",
+                "replay '" + id + "' has its limit of " + std::to_string(limits::kMaxReplayViewers) +
+                    " viewers (kMaxReplayViewers)");
+  return Response::status_only(101);
 }
 
 }  // namespace trailscope::server::handlers

@@ -43,8 +43,40 @@ bool match_route(const std::string& pattern, const std::string& path, PathParams
   return true;
 }
 
-void Router::add(std::string method, std::string pattern, Handler handler) {
-  routes_.push_back({std::move(method), std::move(pattern), std::move(handler)});
+void Router::add(std::string method, std::string pattern, Handler handler, BodyRule body) {
+  routes_.push_back({std::move(method), std::move(pattern), std::move(handler), std::move(body)});
+}
+
+void Router::add_websocket(std::string pattern, WebSocketKind kind, Handler check) {
+  routes_.push_back({"GET", std::move(pattern), std::move(check), {}, kind});
+}
+
+BodyRule Router::body_rule(const std::string& method, const std::string& path) const {
+  for (const Route& r : routes_) {
+    PathParams params;
+    if (r.websocket == WebSocketKind::none && r.method == method && match_route(r.pattern, path, params))
+      return r.body;
+  }
+  return {};
+}
+
+Router::Upgrade Router::upgrade(const Request& req) const {
+  Upgrade u;
+  std::string endpoints;
+  for (const Route& r : routes_) {
+    if (r.websocket == WebSocketKind::none) continue;
+    endpoints += (endpoints.empty() ? "" : " and ") + r.pattern;
+    if (u.route || !match_route(r.pattern, req.path, u.params)) continue;
+    try {
+      r.handler(req, u.params);
+      u.route = &r;
+    } catch (const std::exception& e) {
+      u.refusal = error_response(e);
+      return u;
+    }
+  }
+  if (!u.route) u.refusal = error_response(404, "not_found", "path", "WebSocket endpoints are " + endpoints);
+  return u;
 }
 
 Response Router::handle(const Request& req) const {
@@ -53,7 +85,7 @@ Response Router::handle(const Request& req) const {
     std::string allow;
     for (const Route& r : routes_) {
       PathParams params;
-      if (!match_route(r.pattern, req.path, params)) continue;
+      if (r.websocket != WebSocketKind::none || !match_route(r.pattern, req.path, params)) continue;
       if (r.method == req.method || (req.method == "HEAD" && r.method == "GET")) {
         Response res = r.handler(req, params);
         res.head_only = req.method == "HEAD";

@@ -1,14 +1,30 @@
 #pragma once
 // The single table of routes. Each route is a method, a path pattern with {name} segments (a segment may
 // carry a literal suffix, as in {y}.png) and a handler. Handlers parse, call compute/, and serialise;
-// exceptions they throw are turned into responses here, by the error table, and nowhere else.
+// exceptions they throw are turned into responses here, by the error table, and nowhere else. A route also
+// says how its request body is read (BodyRule), and WebSocket upgrades are routes too (WebSocketKind):
+// the network layer (net/http_server.cpp) asks the table and names no path itself.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "limits.hpp"
 #include "routes/http_types.hpp"
 
 namespace trailscope::server {
+
+/// How a route's request body is read: in memory, or streamed to a file (Request::body_file) so that
+/// memory stays flat, with a size limit (bytes) and the name a 413 gives it ("<name> exceeds the limit of
+/// 2 GiB"). A streamed body has limits::kUploadTimeoutSeconds to arrive.
+struct BodyRule {
+  std::uint64_t limit = limits::kMaxRequestBodyBytes;
+  bool to_file = false;
+  std::string name = "request body";
+};
+
+/// The WebSocket session an upgrade route opens: job events (WsHub) or a replay viewer.
+enum class WebSocketKind { none, events, replay };
 
 class Router {
  public:
@@ -16,12 +32,29 @@ class Router {
   struct Route {
     std::string method, pattern;
     Handler handler;
+    BodyRule body;
+    /// Not none: a WebSocket upgrade (GET), whose handler checks the request before the upgrade (a thrown
+    /// error refuses it). Plain requests never reach it.
+    WebSocketKind websocket = WebSocketKind::none;
+  };
+  /// The route of a WebSocket upgrade request, or why it is refused.
+  struct Upgrade {
+    const Route* route = nullptr;  ///< null: refused
+    PathParams params;
+    Response refusal;
   };
 
-  void add(std::string method, std::string pattern, Handler handler);
+  void add(std::string method, std::string pattern, Handler handler, BodyRule body = {});
+  /// A WebSocket upgrade route (GET `pattern`); `check` answers anything (e.g. status 101) to accept.
+  void add_websocket(std::string pattern, WebSocketKind kind, Handler check);
   /// Finds the route and runs it. Unknown paths give 404, a known path with another method 405; any
   /// exception becomes the error table's response.
   Response handle(const Request& req) const;
+  /// The body rule of the route `method` `path` would reach; the default rule when none.
+  BodyRule body_rule(const std::string& method, const std::string& path) const;
+  /// Matches a WebSocket upgrade request and runs its route's check. Unknown paths are refused with 404
+  /// naming the WebSocket endpoints; a check's error is refused with the error table's response.
+  Upgrade upgrade(const Request& req) const;
   /// Every (method, pattern) pair, for the OpenAPI consistency test.
   const std::vector<Route>& routes() const { return routes_; }
   /// A fallback (static files) tried for GET requests that no route matches.

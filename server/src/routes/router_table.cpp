@@ -1,6 +1,7 @@
 #include "routes/app.hpp"
+#include "routes/collection.hpp"
 #include "routes/handlers.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server {
 
@@ -23,11 +24,20 @@ Router make_router(App& app) {
   const auto bind = [&app](Response (*h)(App&, const Request&, const PathParams&)) {
     return [&app, h](const Request& req, const PathParams& p) { return h(app, req, p); };
   };
+  // Uploads stream to disk with their own limit; the name is what a 413 calls the body.
+  const auto upload = [](std::uint64_t limit, const char* name) { return BodyRule{limit, true, name}; };
   using namespace handlers;
+  const Collection<GraphStore> graphs{&App::graphs, "graphs", "graph", "a graph store"};
+  const Collection<BundleStore> bundles{&App::bundles, "bundles", "bundle", "a bundle store"};
+  const Collection<VideoStore> videos{&App::videos, "videos", "video", "a video store"};
+  const Collection<RunStore> runs{&App::runs, "runs", "run", "a run store"};
+  const Collection<MotStore> mot{&App::mot, "files", "mot", "a MOT store"};
+  const Collection<SweepStore> sweeps{&App::sweeps, "sweeps", "sweep", "run and video stores"};
   // method  pattern                                               handler          statuses
-  r.add("GET", "/api/v1/health", bind(health));                                      // 200
-  r.add("GET", "/api/v1/datasets", bind(list_datasets));                             // 200
-  r.add("POST", "/api/v1/datasets", bind(create_dataset));                           // 202 400 409 413
+  r.add("GET", "/api/v1/health", bind(health));           // 200
+  r.add("GET", "/api/v1/datasets", bind(list_datasets));  // 200
+  r.add("POST", "/api/v1/datasets", bind(create_dataset),
+        upload(limits::kMaxUploadBytes, "upload"));                                  // 202 400 409 413
   r.add("GET", "/api/v1/datasets/{dataset}", bind(get_dataset));                     // 200 404
   r.add("DELETE", "/api/v1/datasets/{dataset}", bind(delete_dataset));               // 204 404
   r.add("GET", "/api/v1/datasets/{dataset}/summary", bind(summary));                 // 200 400 404
@@ -37,45 +47,49 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/jobs/{job}", bind(get_job));                                 // 200 404
   r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));                           // 200 404
   r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile));      // 200 304 400 404
-  r.add("GET", "/api/v1/graphs", bind(list_graphs));                                 // 200
-  r.add("POST", "/api/v1/graphs", bind(create_graph));                               // 201 400 413 415 422
-  r.add("GET", "/api/v1/graphs/{graph}", bind(get_graph));                           // 200 404
-  r.add("DELETE", "/api/v1/graphs/{graph}", bind(delete_graph));                     // 204 404
+  r.add("GET", "/api/v1/graphs", list_handler(app, graphs));                         // 200
+  r.add("POST", "/api/v1/graphs", bind(create_graph),
+        upload(limits::kMaxGraphUploadBytes, "graph upload"));             // 201 400 413 415 422
+  r.add("GET", "/api/v1/graphs/{graph}", get_handler(app, graphs));        // 200 404
+  r.add("DELETE", "/api/v1/graphs/{graph}", delete_handler(app, graphs));  // 204 404
   // /bundles/params before /bundles/{bundle}: the first matching route wins.
   r.add("GET", "/api/v1/bundles/params", bind(bundle_params));                          // 200
-  r.add("GET", "/api/v1/bundles", bind(list_bundles));                                  // 200
+  r.add("GET", "/api/v1/bundles", list_handler(app, bundles));                          // 200
   r.add("POST", "/api/v1/bundles", bind(create_bundle));                                // 202 400 404 413 422
-  r.add("GET", "/api/v1/bundles/{bundle}", bind(get_bundle));                           // 200 404
+  r.add("GET", "/api/v1/bundles/{bundle}", get_handler(app, bundles));                  // 200 404
   r.add("DELETE", "/api/v1/bundles/{bundle}", bind(delete_bundle));                     // 204 404
   r.add("GET", "/api/v1/bundles/{bundle}/image.png", bind(bundle_image));               // 200 304 400 404
   r.add("GET", "/api/v1/bundles/{bundle}/polylines", bind(bundle_polylines));           // 200 400 404 413
   r.add("GET", "/tiles/{dataset}/bundle/{bundle}/{z}/{x}/{y}.png", bind(bundle_tile));  // 200 304 400 404
   // Depth videos; /videos/synth before /videos/{video}.
-  r.add("GET", "/api/v1/videos", bind(list_videos));                     // 200
-  r.add("POST", "/api/v1/videos", bind(create_video));                   // 201 400 409 413 415 422
-  r.add("POST", "/api/v1/videos/synth", bind(synth_video));              // 202 400 409 413
-  r.add("GET", "/api/v1/videos/{video}", bind(get_video));               // 200 404
-  r.add("DELETE", "/api/v1/videos/{video}", bind(delete_video));         // 204 404
-  r.add("GET", "/api/v1/videos/{video}/frames/{i}", bind(video_frame));  // 200 400 404
+  r.add("GET", "/api/v1/videos", list_handler(app, videos));  // 200
+  r.add("POST", "/api/v1/videos", bind(create_video),
+        upload(limits::kMaxVideoUploadBytes, "video upload"));             // 201 400 409 413 415 422
+  r.add("POST", "/api/v1/videos/synth", bind(synth_video));                // 202 400 409 413
+  r.add("GET", "/api/v1/videos/{video}", get_handler(app, videos));        // 200 404
+  r.add("DELETE", "/api/v1/videos/{video}", delete_handler(app, videos));  // 204 404
+  r.add("GET", "/api/v1/videos/{video}/frames/{i}", bind(video_frame));    // 200 400 404
   r.add("GET", "/api/v1/videos/{video}/frames/{i}/depth.png", bind(video_depth_png));          // 200 400 404
   r.add("GET", "/api/v1/videos/{video}/frames/{i}/amplitude.png", bind(video_amplitude_png));  // 200 400 404
   // Tracker runs; /runs/track before /runs/{run}.
   r.add("GET", "/api/v1/tracker/params", bind(tracker_params));  // 200
-  r.add("GET", "/api/v1/runs", bind(list_runs));                 // 200
-  r.add("POST", "/api/v1/runs", bind(create_run));               // 201 400 409 413 415
-  r.add("POST", "/api/v1/runs/track", bind(track_run));          // 202 400 404 409
-  r.add("GET", "/api/v1/runs/{run}", bind(get_run));             // 200 404
-  r.add("DELETE", "/api/v1/runs/{run}", bind(delete_run));       // 204 404
-  r.add("GET", "/api/v1/runs/{run}/log", bind(run_log));         // 200 400 404
-  r.add("GET", "/api/v1/runs/{run}/frames", bind(run_frames));   // 200 400 404
+  r.add("GET", "/api/v1/runs", list_handler(app, runs));         // 200
+  r.add("POST", "/api/v1/runs", bind(create_run),
+        upload(limits::kMaxRunBytes, "run upload"));                 // 201 400 409 413 415
+  r.add("POST", "/api/v1/runs/track", bind(track_run));              // 202 400 404 409
+  r.add("GET", "/api/v1/runs/{run}", bind(get_run));                 // 200 404
+  r.add("DELETE", "/api/v1/runs/{run}", delete_handler(app, runs));  // 204 404
+  r.add("GET", "/api/v1/runs/{run}/log", bind(run_log));             // 200 400 404
+  r.add("GET", "/api/v1/runs/{run}/frames", bind(run_frames));       // 200 400 404
   // MOTChallenge files and their metrics.
-  r.add("GET", "/api/v1/mot", bind(list_mot));              // 200
-  r.add("POST", "/api/v1/mot", bind(create_mot));           // 201 400 409 413 422
-  r.add("GET", "/api/v1/mot/{mot}", bind(get_mot));         // 200 404
-  r.add("DELETE", "/api/v1/mot/{mot}", bind(delete_mot));   // 204 404
-  r.add("POST", "/api/v1/metrics", bind(compute_metrics));  // 200 400 404 413 422
+  r.add("GET", "/api/v1/mot", list_handler(app, mot));  // 200
+  r.add("POST", "/api/v1/mot", bind(create_mot),
+        upload(limits::kMaxRunBytes, "MOT file upload"));          // 201 400 409 413 422
+  r.add("GET", "/api/v1/mot/{mot}", get_handler(app, mot));        // 200 404
+  r.add("DELETE", "/api/v1/mot/{mot}", delete_handler(app, mot));  // 204 404
+  r.add("POST", "/api/v1/metrics", bind(compute_metrics));         // 200 400 404 413 422
   // Parameter sweeps.
-  r.add("GET", "/api/v1/sweeps", bind(list_sweeps));              // 200
+  r.add("GET", "/api/v1/sweeps", list_handler(app, sweeps));      // 200
   r.add("POST", "/api/v1/sweeps", bind(create_sweep));            // 202 400 404 409 413 422
   r.add("GET", "/api/v1/sweeps/{sweep}", bind(get_sweep));        // 200 404
   r.add("GET", "/api/v1/importance", bind(importance));           // 200 400 404 413 422
@@ -86,8 +100,10 @@ Router make_router(App& app) {
   r.add("POST", "/api/v1/replays", bind(create_replay));             // 201 400 404 409
   r.add("GET", "/api/v1/replays/{replay}", bind(get_replay));        // 200 404
   r.add("DELETE", "/api/v1/replays/{replay}", bind(delete_replay));  // 204 404
-  // GET /api/v1/ws and GET /api/v1/replays/{replay}/ws (WebSocket upgrades) are taken by the HTTP session
-  // before routing.
+  // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
+  r.add_websocket("/api/v1/ws", WebSocketKind::events,
+                  [](const Request&, const PathParams&) { return Response::status_only(101); });
+  r.add_websocket("/api/v1/replays/{replay}/ws", WebSocketKind::replay, bind(replay_viewer_check));
   r.set_fallback(bind(static_file));
   return r;
 }

@@ -28,9 +28,9 @@ std::optional<double> summary_figure(const nlohmann::json& row, const std::strin
 
 std::vector<nlohmann::json> select_runs(App& app, const std::string& sweep,
                                         const std::vector<std::string>& ids) {
-  if (!app.runs) throw Error(Error::Kind::internal, "", "this server was started without a run store");
+  need(app.runs, "a run store");
   if (!sweep.empty()) {
-    if (!app.sweeps) throw Error(Error::Kind::internal, "", "this server was started without a sweep store");
+    need(app.sweeps, "a sweep store");
     app.sweeps->get(sweep);  // 404 "sweep"
   }
   const auto of_sweep = [&](const nlohmann::json& row) {
@@ -58,7 +58,7 @@ analysis::RunFigures run_figures(const nlohmann::json& row) {
   f.id = row.at("id").get<std::string>();
   f.param_names = row.at("param_names").get<std::vector<std::string>>();
   f.params = row.at("params").get<std::vector<double>>();
-  for (const std::string& m : kRunMetrics)
+  for (const std::string& m : analysis::table_metric_names())
     f.metrics.emplace_back(m, summary_figure(row, m).value_or(std::numeric_limits<double>::quiet_NaN()));
   return f;
 }

@@ -12,11 +12,6 @@
 
 namespace trailscope::server {
 
-/// The run-summary figures the analysis routes offer as metrics, in the order they become columns.
-inline const std::vector<std::string> kRunMetrics = {"track_share", "lost_episodes",
-                                                     "accuracy.median_error_mm", "accuracy.p95_error_mm",
-                                                     "accuracy.frames_all_within"};
-
 /// The figure at dotted `path` ("track_share", "accuracy.median_error_mm") of a run row's summary: the
 /// number, NaN when it or its parent is null (no ground truth); nullopt when the path names no number.
 std::optional<double> summary_figure(const nlohmann::json& row, const std::string& path);
@@ -27,7 +22,7 @@ std::optional<double> summary_figure(const nlohmann::json& row, const std::strin
 std::vector<nlohmann::json> select_runs(App& app, const std::string& sweep,
                                         const std::vector<std::string>& ids);
 
-/// A row's parameters and the kRunMetrics figures (NaN where null).
+/// A row's parameters and the analysis::table_metric_names() figures (NaN where null).
 analysis::RunFigures run_figures(const nlohmann::json& row);
 
 }  // namespace trailscope::server

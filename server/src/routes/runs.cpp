@@ -1,9 +1,10 @@
+#include "jobs/track_job.hpp"
 #include "routes/handlers.hpp"
-#include "routes/params.hpp"
-#include "routes/tracker_body.hpp"
-#include "routes/upload_body.hpp"
+#include "params/query_params.hpp"
+#include "params/json_fields.hpp"
+#include "params/upload_body.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/tof/depth_render.hpp"
 #include "trailscope/tracker/params.hpp"
 
@@ -13,11 +14,6 @@ namespace fs = std::filesystem;
 namespace {
 const std::string kTooLarge =
     "run upload exceeds the limit of " + std::to_string(limits::kMaxRunBytes >> 20) + " MiB";
-
-RunStore& run_store(App& app) {
-  if (!app.runs) throw Error(Error::Kind::internal, "", "this server was started without a run store");
-  return *app.runs;
-}
 
 }  // namespace
 
@@ -36,33 +32,20 @@ Response tracker_params(App&, const Request& req, const PathParams&) {
       200, {{"params", std::move(list)}, {"tracker_version", std::string(tracker::kTrackerVersion)}});
 }
 
-Response list_runs(App& app, const Request& req, const PathParams&) {
-  reject_unknown_params(req, {});
-  return Response::json(200, {{"runs", run_store(app).list()}});
-}
-
 Response get_run(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
-  RunStore& runs = run_store(app);
+  RunStore& runs = need(app.runs, "a run store");
   nlohmann::json j = runs.meta(p.at("run"));
   j["header"] = tracker::header_to_json(runs.get(p.at("run"))->header);
   return Response::json(200, j);
 }
 
-Response delete_run(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, {});
-  run_store(app).remove(p.at("run"));
-  return Response::no_content();
-}
-
 Response create_run(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {});
-  RunStore& runs = run_store(app);
+  RunStore& runs = need(app.runs, "a run store");
   const std::string bytes = upload_bytes(req, limits::kMaxRunBytes, kTooLarge);
   const nlohmann::json row = runs.put(tracker::decode_log(bytes), "upload");
-  Response res = Response::json(201, row);
-  res.headers.emplace_back("Location", "/api/v1/runs/" + row.at("id").get<std::string>());
-  return res;
+  return Response::json_at(201, row, "/api/v1/runs/" + row.at("id").get<std::string>());
 }
 
 Response track_run(App& app, const Request& req, const PathParams&) {
@@ -70,23 +53,11 @@ Response track_run(App& app, const Request& req, const PathParams&) {
   const nlohmann::json j = parse_body_object(req.body, {"video", "params"});
   const std::string video = string_field(j, "video");
   const tracker::TrackerParams params = parse_tracker_params(j.value("params", nlohmann::json()));
-  if (!app.videos) throw Error(Error::Kind::internal, "", "this server was started without a video store");
+  need(app.videos, "a video store");
   const fs::path pack = app.videos->pack_path(video);
-  run_store(app).check_room();
-  const auto runs = app.runs;
-  const JobState job = app.jobs.submit(
-      "track", video, [runs, pack, params, video](const ProgressFn& progress, const CancelToken& cancel) {
-        tracker::RunOptions ro;
-        ro.video_id = video;
-        const ProgressFn report = [&](double f, std::string_view stage) {
-          cancel.throw_if_cancelled();  // run_tracker stops at the throw; nothing is stored
-          progress(f, stage);
-        };
-        return runs->put(tracker::run_tracker(pack, params, ro, report), "track");
-      });
-  Response res = Response::json(202, {{"job", job.to_json()}});
-  res.headers.emplace_back("Location", "/api/v1/jobs/" + job.id);
-  return res;
+  need(app.runs, "a run store").check_room();
+  const JobState job = submit_track(app.jobs, app.runs, pack, params, video);
+  return Response::json_at(202, {{"job", job.to_json()}}, "/api/v1/jobs/" + job.id);
 }
 
 Response run_log(App& app, const Request& req, const PathParams& p) {
@@ -95,7 +66,7 @@ Response run_log(App& app, const Request& req, const PathParams& p) {
   const std::string format = it == req.query.end() ? "json" : it->second;
   if (format != "json" && format != "binary")
     throw invalid_argument("format", "format must be json or binary, got '" + format + "'");
-  RunStore& runs = run_store(app);
+  RunStore& runs = need(app.runs, "a run store");
   Response res;
   if (format == "binary") {
     res.content_type = "application/x-protobuf";
@@ -109,7 +80,7 @@ Response run_log(App& app, const Request& req, const PathParams& p) {
 Response run_frames(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {"from", "to"});
   const std::string id = p.at("run");
-  const auto log = run_store(app).get(id);
+  const auto log = need(app.runs, "a run store").get(id);
   const auto total = static_cast<std::int64_t>(log->frames.size());
   const std::int64_t from = params::integer(req, "from", 0, 0, total);
   const std::int64_t to = params::integer(

@@ -1,14 +1,14 @@
 // Parameter sweeps: the tracker over every point of a grid or random sample of parameter space on one or
-// more stored videos, in one job; each run goes to the run store tagged with the sweep's id.
+// more stored videos, in one job (jobs/sweep_job.hpp); each run goes to the run store tagged with the
+// sweep's id.
+#include "jobs/sweep_job.hpp"
 #include "routes/handlers.hpp"
-#include "routes/tracker_body.hpp"
+#include "params/json_fields.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/tracker/sweep.hpp"
-#include "trailscope/tracker/tracker_log.hpp"
 
 namespace trailscope::server::handlers {
-namespace fs = std::filesystem;
 
 namespace {
 SweepStore& sweep_store(App& app) {
@@ -17,11 +17,6 @@ SweepStore& sweep_store(App& app) {
   return *app.sweeps;
 }
 }  // namespace
-
-Response list_sweeps(App& app, const Request& req, const PathParams&) {
-  reject_unknown_params(req, {});
-  return Response::json(200, {{"sweeps", sweep_store(app).list()}});
-}
 
 Response get_sweep(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
@@ -53,21 +48,20 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
   const auto v = j.find("videos");
   if (v == j.end() || !v->is_array() || v->empty())
     throw invalid_argument("videos", "videos: must be a non-empty array of video ids");
-  std::vector<std::string> videos;
-  std::vector<fs::path> packs;
+  std::vector<tracker::SweepVideo> videos;
   for (const auto& id : *v) {
     if (!id.is_string()) throw invalid_argument("videos", "videos: must be a non-empty array of video ids");
-    videos.push_back(id.get<std::string>());
-    packs.push_back(app.videos->pack_path(videos.back()));  // 404 "video"
-    const auto frames = app.videos->meta(videos.back()).at("frame_count").get<std::int64_t>();
+    const std::string video = id.get<std::string>();
+    videos.push_back({video, app.videos->pack_path(video)});  // 404 "video"
+    const auto frames = app.videos->meta(video).at("frame_count").get<std::int64_t>();
     if (first >= frames)
       throw invalid_argument("first_frame", "first_frame: " + std::to_string(first) +
-                                                " is not a frame of video '" + videos.back() + "' (it has " +
+                                                " is not a frame of video '" + video + "' (it has " +
                                                 std::to_string(frames) + ")");
     if (first + count > frames)
       throw invalid_argument("frame_count", "frame_count: " + std::to_string(count) + " frames from frame " +
-                                                std::to_string(first) + " run past video '" + videos.back() +
-                                                "' (" + std::to_string(frames) + " frames)");
+                                                std::to_string(first) + " run past video '" + video + "' (" +
+                                                std::to_string(frames) + " frames)");
   }
   if (!j.contains("sweep")) throw invalid_argument("sweep", "sweep: required");
   const tracker::SweepSpec spec = tracker::parse_sweep(j["sweep"]);
@@ -81,44 +75,11 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
   app.runs->check_room(total);
   const std::string id =
       sweeps.create(tracker::to_json(spec), *v, {{"first_frame", first}, {"frame_count", count}}, total);
-  const auto runs = app.runs;
-  const auto store = app.sweeps;
-  const JobState job = app.jobs.submit(
-      "sweep", id,
-      [runs, store, id, videos, packs, points, total, first, count](const ProgressFn& progress,
-                                                                    const CancelToken& cancel) {
-        std::size_t done = 0;
-        try {
-          for (const auto& params : points)
-            for (std::size_t k = 0; k < videos.size(); ++k) {
-              cancel.throw_if_cancelled();
-              tracker::RunOptions ro;
-              ro.video_id = videos[k];
-              ro.first_frame = static_cast<std::size_t>(first);
-              ro.frame_count = static_cast<std::size_t>(count);
-              const ProgressFn report = [&](double f, std::string_view) {
-                cancel.throw_if_cancelled();  // run_tracker stops at the throw; that run is not stored
-                progress((static_cast<double>(done) + f) / static_cast<double>(total), "sweep");
-              };
-              const nlohmann::json row =
-                  runs->put(tracker::run_tracker(packs[k], params, ro, report), "sweep", id);
-              store->add_run(id, row.at("id").get<std::string>());
-              progress(static_cast<double>(++done) / static_cast<double>(total), "sweep");
-            }
-        } catch (const Error& e) {
-          store->finish(id, e.kind() == Error::Kind::cancelled ? "cancelled" : "failed");
-          throw;
-        } catch (...) {
-          store->finish(id, "failed");
-          throw;
-        }
-        store->finish(id, "done");
-        return store->get(id);
-      });
-  sweeps.set_job(id, job.id);
-  Response res = Response::json(202, {{"job", job.to_json()}, {"sweep", sweeps.get(id)}});
-  res.headers.emplace_back("Location", "/api/v1/sweeps/" + id);
-  return res;
+  tracker::RunOptions range;
+  range.first_frame = static_cast<std::size_t>(first);
+  range.frame_count = static_cast<std::size_t>(count);
+  const JobState job = submit_sweep(app.jobs, app.runs, app.sweeps, id, points, std::move(videos), range);
+  return Response::json_at(202, {{"job", job.to_json()}, {"sweep", sweeps.get(id)}}, "/api/v1/sweeps/" + id);
 }
 
 }  // namespace trailscope::server::handlers

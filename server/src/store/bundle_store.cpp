@@ -1,12 +1,10 @@
 #include "store/bundle_store.hpp"
 
 #include <algorithm>
-#include <iostream>
 
 #include "store/column_io.hpp"
-#include "store/graph_store.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server {
 namespace fs = std::filesystem;
@@ -37,7 +35,7 @@ bundling::Frame frame_from(const nlohmann::json& j) {
 }
 
 // Geometry is stored as float32: bundle pixels lie in 0..4096, where float keeps 1/4000 px, and it halves
-// the files. bundle_request.cpp rounds a fresh result the same way, so a reloaded bundle draws the same
+// the files. jobs/bundle_job.cpp rounds a fresh result the same way, so a reloaded bundle draws the same
 // bytes as the one computed in this run (ETags stay valid across restarts).
 std::vector<float> to_float(const std::vector<double>& v) {
   return {v.begin(), v.end()};
@@ -166,124 +164,62 @@ std::shared_ptr<StoredBundle> BundleStore::read_bundle(const fs::path& dir) {
   return sb;
 }
 
-BundleStore::BundleStore(fs::path root) : root_(std::move(root)) {
-  std::error_code ec;
-  for (const char* sub : {"bundles", "tmp"}) {
-    fs::create_directories(root_ / sub, ec);
-    if (ec) throw io_error(root_ / sub, "create");
-  }
-  for (const auto& e : fs::directory_iterator(root_ / "tmp"))
-    if (e.path().filename().string().rfind("bundle.", 0) == 0) fs::remove_all(e.path(), ec);
-  for (const auto& e : fs::directory_iterator(root_ / "bundles")) {
-    const std::string id = e.path().filename().string();
-    const std::uint64_t n = store_id_number(id, 'b');
-    if (!e.is_directory() || n == 0 || !fs::exists(e.path() / "manifest.json", ec)) continue;
-    try {
-      nlohmann::json m = read_manifest(e.path());
-      if (m.value("magic", "") != kMagic || m.value("version", 0) != kFormatVersion)
-        throw io_error(e.path(), "recognise the format of");
-      for (const char* k : {"magic", "version", "dataset"}) m.erase(k);
-      meta_[id] = std::move(m);
-      ids_[n] = id;
-      next_ = std::max(next_, n + 1);
-    } catch (const std::exception& ex) {
-      std::cerr << "store: skipping bundle '" << id << "': " << ex.what() << "\n";
-    }
-  }
-}
+BundleStore::BundleStore(fs::path root)
+    : folders_(std::move(root), {"bundle", "bundles", 'b', "manifest.json"},
+               manifest_meta(kMagic, kFormatVersion, {"dataset"})),
+      loaded_(kLoadedBundles) {}
 
 std::vector<nlohmann::json> BundleStore::list() const {
-  std::lock_guard lock(mu_);
-  std::vector<nlohmann::json> out;
-  for (const auto& [n, id] : ids_) out.push_back(meta_.at(id));
-  return out;
+  return folders_.list();
 }
 
 nlohmann::json BundleStore::meta(const std::string& id) const {
-  std::lock_guard lock(mu_);
-  auto it = meta_.find(id);
-  if (it == meta_.end()) throw not_found("bundle", "bundle '" + id + "' does not exist");
-  return it->second;
-}
-
-void BundleStore::touch_locked(const std::string& id, std::shared_ptr<const StoredBundle> b) const {
-  loaded_.remove_if([&](const auto& e) { return e.first == id; });
-  loaded_.emplace_front(id, std::move(b));
-  while (loaded_.size() > kLoadedBundles) loaded_.pop_back();
+  return folders_.meta(id);
 }
 
 std::shared_ptr<const StoredBundle> BundleStore::get(const std::string& id) const {
-  std::unique_lock lock(mu_);
-  if (!meta_.count(id)) throw not_found("bundle", "bundle '" + id + "' does not exist");
-  for (const auto& [lid, b] : loaded_)
-    if (lid == id) {
-      auto found = b;
-      touch_locked(id, found);
-      return found;
-    }
+  std::lock_guard lock(mu_);
+  folders_.check(id);
   // Reading happens under the lock: two requests for the same cold bundle read it once, and a delete
   // cannot move the folder away mid-read.
-  std::shared_ptr<const StoredBundle> b = read_bundle(root_ / "bundles" / id);
-  touch_locked(id, b);
-  return b;
+  return loaded_.get(id, [&] { return read_bundle(folders_.dir(id)); });
 }
 
 std::string BundleStore::reserve_id() {
-  std::lock_guard lock(mu_);
-  return store_id('b', next_++);
+  return folders_.next_id();
 }
 
 std::vector<std::string> BundleStore::put(std::shared_ptr<const StoredBundle> b) {
-  const std::uint64_t n = store_id_number(b->id, 'b');
-  if (n == 0) throw Error(Error::Kind::internal, "", "store: '" + b->id + "' is not a bundle id");
-  const fs::path tmp = root_ / "tmp" / ("bundle." + b->id + "." + random_suffix());
-  std::error_code ec;
-  fs::create_directories(tmp, ec);
-  if (ec) throw io_error(tmp, "create");
+  if (folders_.number(b->id) == 0)
+    throw Error(Error::Kind::internal, "", "store: '" + b->id + "' is not a bundle id");
+  const fs::path tmp = folders_.stage(b->id);
   std::vector<std::string> evicted;
   try {
     write_bundle(*b, tmp);
-    const fs::path final_dir = root_ / "bundles" / b->id;
-    // rename(2) of a folder is atomic: after a crash the bundle is there whole or not at all.
-    fs::rename(tmp, final_dir, ec);
-    if (ec) throw io_error(final_dir, "rename into");
-    fsync_path(root_ / "bundles");
     std::lock_guard lock(mu_);
-    ids_[n] = b->id;
-    meta_[b->id] = b->to_json();
-    touch_locked(b->id, b);
-    while (ids_.size() > limits::kMaxStoredBundles) {
-      evicted.push_back(ids_.begin()->second);
-      remove_locked(ids_.begin()->second);
+    folders_.publish(b->id, tmp, b->to_json());
+    loaded_.put(b->id, b);
+    while (folders_.size() > limits::kMaxStoredBundles) {
+      evicted.push_back(folders_.oldest());
+      folders_.remove(evicted.back());
+      loaded_.erase(evicted.back());
     }
   } catch (...) {
+    std::error_code ec;
     fs::remove_all(tmp, ec);
     throw;
   }
   return evicted;
 }
 
-void BundleStore::remove_locked(const std::string& id) {
-  // Out of bundles/ first (atomic), then deleted: a crash mid-delete leaves only tmp/.
-  const fs::path gone = root_ / "tmp" / ("bundle." + id + ".deleted." + random_suffix());
-  std::error_code ec;
-  fs::rename(root_ / "bundles" / id, gone, ec);
-  if (ec) throw io_error(root_ / "bundles" / id, "remove");
-  ids_.erase(store_id_number(id, 'b'));
-  meta_.erase(id);
-  loaded_.remove_if([&](const auto& e) { return e.first == id; });
-  fs::remove_all(gone, ec);
-}
-
 void BundleStore::remove(const std::string& id) {
   std::lock_guard lock(mu_);
-  if (!meta_.count(id)) throw not_found("bundle", "bundle '" + id + "' does not exist");
-  remove_locked(id);
+  folders_.remove(id);
+  loaded_.erase(id);
 }
 
 std::size_t BundleStore::size() const {
-  std::lock_guard lock(mu_);
-  return ids_.size();
+  return folders_.size();
 }
 
 }  // namespace trailscope::server

@@ -1,12 +1,10 @@
 #pragma once
-// Bundling results, persisted under <root>/bundles/<id>/ like datasets (column files, the manifest written
-// last, into <root>/tmp/ first and renamed into place). At most limits::kMaxStoredBundles are kept: storing
+// Bundling results, persisted under <root>/bundles/<id>/ (a FolderStore, folder_store.hpp: column files,
+// the manifest written last). At most limits::kMaxStoredBundles are kept: storing
 // one more deletes the oldest. Metadata of every bundle stays in memory; the geometry is read on first use
 // and only the most recently used few stay loaded, since one bundle can hold tens of millions of points.
 #include <cstdint>
 #include <filesystem>
-#include <list>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -14,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/folder_store.hpp"
 #include "trailscope/bundling/bundle.hpp"
 
 namespace trailscope::server {
@@ -67,16 +66,10 @@ class BundleStore {
   static std::shared_ptr<StoredBundle> read_bundle(const std::filesystem::path& dir);
 
  private:
-  void remove_locked(const std::string& id);
-  void touch_locked(const std::string& id, std::shared_ptr<const StoredBundle> b) const;
-
-  std::filesystem::path root_;
-  mutable std::mutex mu_;
-  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
-  std::map<std::string, nlohmann::json> meta_;
-  /// The loaded bundles, most recently used first (at most kLoadedBundles).
-  mutable std::list<std::pair<std::string, std::shared_ptr<const StoredBundle>>> loaded_;
-  std::uint64_t next_ = 1;
+  FolderStore folders_;
+  mutable std::mutex mu_;  ///< guards loaded_, reads of bundle folders and put's evictions
+  /// The loaded bundles (at most kLoadedBundles).
+  mutable RecentItems<StoredBundle> loaded_;
 };
 
 }  // namespace trailscope::server

@@ -1,6 +1,7 @@
 #pragma once
-// Where datasets live. The interface keeps the rest of the server independent of the backend: the
-// embedded store (this machine, files + memory) now, a ClickHouse backend for data beyond one machine later.
+// Where datasets live. The interface keeps the rest of the server independent of the backend that holds
+// them: the embedded store (embedded_store.hpp: this machine, files + memory) implements it, and a backend
+// for data beyond one machine (a database server) implements the same interface.
 #include <memory>
 #include <string>
 #include <vector>

@@ -1,5 +1,6 @@
 #include "store/embedded_store.hpp"
 #include "store/column_io.hpp"
+#include "store/folder_store.hpp"
 
 #include <cstdio>
 #include <fstream>
@@ -147,22 +148,17 @@ bool EmbeddedStore::contains(const std::string& id) const {
 void EmbeddedStore::put(std::shared_ptr<const Dataset> ds) {
   validate_dataset_id(ds->id);
   if (contains(ds->id)) throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
-  const fs::path tmp = root_ / "tmp" / (ds->id + "." + random_suffix());
-  std::error_code ec;
-  fs::create_directories(tmp, ec);
-  if (ec) throw io_error(tmp, "create");
+  const fs::path tmp = stage_folder(root_ / "tmp", ds->id);
   try {
     write_dataset(*ds, tmp);
     std::lock_guard lock(mu_);
     if (datasets_.count(ds->id))
       throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
-    const fs::path final_dir = root_ / "datasets" / ds->id;
-    // rename(2) of a folder is atomic: readers after a crash see the old state or the whole dataset.
-    fs::rename(tmp, final_dir, ec);
-    if (ec) throw io_error(final_dir, "rename into");
-    fsync_path(root_ / "datasets");
+    // Readers after a crash see the old state or the whole dataset.
+    publish_folder(tmp, root_ / "datasets" / ds->id);
     datasets_[ds->id] = std::move(ds);
   } catch (...) {
+    std::error_code ec;
     fs::remove_all(tmp, ec);
     throw;
   }
@@ -172,13 +168,9 @@ void EmbeddedStore::remove(const std::string& id) {
   std::lock_guard lock(mu_);
   auto it = datasets_.find(id);
   if (it == datasets_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
-  // Rename out of datasets/ first (atomic), then delete at leisure: a crash mid-delete leaves only tmp/.
-  const fs::path gone = root_ / "tmp" / (id + ".deleted." + random_suffix());
-  std::error_code ec;
-  fs::rename(root_ / "datasets" / id, gone, ec);
-  if (ec) throw io_error(root_ / "datasets" / id, "remove");
+  // Out of datasets/ first (atomic), then deleted: a crash mid-delete leaves only tmp/.
+  remove_folder(root_ / "datasets" / id, root_ / "tmp" / (id + ".deleted." + random_suffix()));
   datasets_.erase(it);
-  fs::remove_all(gone, ec);
 }
 
 }  // namespace trailscope::server

@@ -1,11 +1,9 @@
 #pragma once
-// Uploaded graphs (and trail sets) to bundle, persisted under <root>/graphs/<id>/ like datasets: the
-// parsed polylines as column files and a manifest written last, into <root>/tmp/ first and renamed into
-// place. The parsed form is stored rather than the upload, so a bundle request never re-parses a file
-// and a graph that was accepted once stays readable.
+// Uploaded graphs (and trail sets) to bundle, persisted under <root>/graphs/<id>/ (a FolderStore,
+// folder_store.hpp): the parsed polylines as column files and a manifest written last. The parsed form is
+// stored rather than the upload, so a bundle request never re-parses a file and a graph that was accepted
+// once stays readable.
 #include <filesystem>
-#include <list>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -13,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/folder_store.hpp"
 #include "trailscope/bundling/graph_io.hpp"
 
 namespace trailscope::server {
@@ -48,20 +47,10 @@ class GraphStore {
   void remove(const std::string& id);
 
  private:
-  void touch_locked(const std::string& id, std::shared_ptr<const StoredGraph> g) const;
-
-  std::filesystem::path root_;
-  mutable std::mutex mu_;
-  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
-  std::map<std::string, nlohmann::json> meta_;
-  /// The loaded graphs, most recently used first (a few: an upload may hold millions of edges).
-  mutable std::list<std::pair<std::string, std::shared_ptr<const StoredGraph>>> loaded_;
-  std::uint64_t next_ = 1;
+  FolderStore folders_;
+  mutable std::mutex mu_;  ///< guards loaded_ and reads of graph folders (a delete cannot move one mid-read)
+  /// The loaded graphs (a few: an upload may hold millions of edges).
+  mutable RecentItems<StoredGraph> loaded_;
 };
-
-/// The number of a store id ("g12" → 12; 0 when it is not the prefix followed by digits).
-std::uint64_t store_id_number(const std::string& id, char prefix);
-/// The store id of a number ('g', 12 → "g12").
-std::string store_id(char prefix, std::uint64_t n);
 
 }  // namespace trailscope::server

@@ -5,9 +5,8 @@
 
 #include "store/column_io.hpp"
 #include "store/dataset_ingest.hpp"
-#include "store/graph_store.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server {
 namespace fs = std::filesystem;
@@ -21,7 +20,8 @@ Error full(const RowStore::Kind& kind) {
 }
 }  // namespace
 
-RowStore::RowStore(fs::path root, Kind kind) : dir_(std::move(root) / kind.dir), kind_(std::move(kind)) {
+RowStore::RowStore(fs::path root, Kind kind)
+    : dir_(std::move(root) / kind.dir), kind_(std::move(kind)), index_(kind_.prefix, kind_.noun) {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec) throw io_error(dir_, "create");
@@ -43,9 +43,7 @@ RowStore::RowStore(fs::path root, Kind kind) : dir_(std::move(root) / kind.dir),
       if (m.value("magic", "") != kind_.magic || !fs::exists(path_of(id), ec))
         throw io_error(p, "recognise the format of");
       m.erase("magic");
-      meta_[id] = std::move(m);
-      ids_[n] = id;
-      next_ = std::max(next_, n + 1);
+      index_.add(id, std::move(m));
     } catch (const std::exception& ex) {
       std::cerr << "store: skipping " << kind_.noun << " '" << id << "': " << ex.what() << "\n";
     }
@@ -58,20 +56,17 @@ fs::path RowStore::path_of(const std::string& id) const {
 }
 
 void RowStore::check_exists_locked(const std::string& id, const std::string& param) const {
-  if (!meta_.count(id)) throw not_found(param, kind_.noun + " '" + id + "' does not exist");
+  index_.check(id, param);
 }
 
 std::vector<nlohmann::json> RowStore::list() const {
   std::lock_guard lock(mu_);
-  std::vector<nlohmann::json> out;
-  for (const auto& [n, id] : ids_) out.push_back(meta_.at(id));
-  return out;
+  return index_.list();
 }
 
 nlohmann::json RowStore::meta(const std::string& id, const std::string& param) const {
   std::lock_guard lock(mu_);
-  check_exists_locked(id, param);
-  return meta_.at(id);
+  return index_.at(id, param);
 }
 
 fs::path RowStore::payload_path(const std::string& id) const {
@@ -82,22 +77,21 @@ fs::path RowStore::payload_path(const std::string& id) const {
 
 std::size_t RowStore::size() const {
   std::lock_guard lock(mu_);
-  return ids_.size();
+  return index_.size();
 }
 
 void RowStore::check_room(std::size_t items) const {
   std::lock_guard lock(mu_);
-  if (ids_.size() + items > limits::kMaxStoredRuns) throw full(kind_);
+  if (index_.size() + items > limits::kMaxStoredRuns) throw full(kind_);
 }
 
 nlohmann::json RowStore::put(nlohmann::json row, const std::function<void(const fs::path&)>& write_payload) {
-  std::uint64_t n = 0;
+  std::string id;
   {
     std::lock_guard lock(mu_);
-    if (ids_.size() >= limits::kMaxStoredRuns) throw full(kind_);
-    n = next_++;
+    if (index_.size() >= limits::kMaxStoredRuns) throw full(kind_);
+    id = index_.next_id();
   }
-  const std::string id = store_id(kind_.prefix, n);
   const fs::path payload = path_of(id);
   row["id"] = id;
   row["created"] = utc_now_iso();
@@ -114,8 +108,7 @@ nlohmann::json RowStore::put(nlohmann::json row, const std::function<void(const 
     throw;
   }
   std::lock_guard lock(mu_);
-  ids_[n] = id;
-  meta_[id] = row;
+  index_.add(id, row);
   return row;
 }
 
@@ -127,8 +120,7 @@ void RowStore::remove(const std::string& id) {
   fs::remove(dir_ / (id + ".json"), ec);
   if (ec) throw io_error(dir_ / (id + ".json"), "remove");
   fs::remove(path_of(id), ec);
-  ids_.erase(store_id_number(id, kind_.prefix));
-  meta_.erase(id);
+  index_.erase(id);
 }
 
 }  // namespace trailscope::server

@@ -7,12 +7,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "store/item_index.hpp"
 
 namespace trailscope::server {
 
@@ -64,9 +65,7 @@ class RowStore {
   std::filesystem::path dir_;
   Kind kind_;
   mutable std::mutex mu_;
-  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
-  std::map<std::string, nlohmann::json> meta_;
-  std::uint64_t next_ = 1;
+  ItemIndex index_;
 };
 
 }  // namespace trailscope::server

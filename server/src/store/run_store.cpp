@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/tracker/run_counts.hpp"
 
 namespace trailscope::server {
 namespace fs = std::filesystem;
@@ -20,16 +21,8 @@ nlohmann::json number_or_null(double v) {
 
 nlohmann::json run_summary(const tracker::TrackerLog& log) {
   const auto& frames = log.frames;
-  std::size_t track = 0, lost_episodes = 0;
-  double total_us = 0;
-  bool prev_lost = false;
-  for (const auto& f : frames) {
-    track += f.state == tracker::State::track;
-    const bool lost = f.state == tracker::State::lost;
-    lost_episodes += lost && !prev_lost;
-    prev_lost = lost;
-    total_us += f.times.total_us();
-  }
+  const tracker::StateCounts c = tracker::count_states(frames);
+  const double total_us = c.tracker_us;
   const double n = static_cast<double>(frames.size());
   const bool has_truth = !log.truth.empty() && std::any_of(log.truth.begin(), log.truth.end(),
                                                            [](const auto& t) { return t.has_value(); });
@@ -49,8 +42,8 @@ nlohmann::json run_summary(const tracker::TrackerLog& log) {
           {"fps", log.header.fps},
           {"duration_s", duration},
           {"tracker_fps", total_us > 0 ? nlohmann::json(n / (total_us * 1e-6)) : nlohmann::json(nullptr)},
-          {"track_share", frames.empty() ? 0.0 : static_cast<double>(track) / n},
-          {"lost_episodes", lost_episodes},
+          {"track_share", frames.empty() ? 0.0 : static_cast<double>(c.track) / n},
+          {"lost_episodes", c.lost_episodes},
           {"has_truth", has_truth},
           {"accuracy", accuracy}};
 }

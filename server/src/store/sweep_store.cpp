@@ -5,7 +5,6 @@
 
 #include "store/column_io.hpp"
 #include "store/dataset_ingest.hpp"
-#include "store/graph_store.hpp"
 #include "trailscope/core/error.hpp"
 
 namespace trailscope::server {
@@ -23,8 +22,7 @@ SweepStore::SweepStore(fs::path root) : root_(std::move(root)) {
       orphans.push_back(p);
       continue;
     }
-    const std::uint64_t n = store_id_number(p.stem().string(), 's');
-    if (p.extension() != ".json" || n == 0) continue;
+    if (p.extension() != ".json" || sweeps_.number(p.stem().string()) == 0) continue;
     try {
       std::ifstream in(p);
       nlohmann::json m = nlohmann::json::parse(in);
@@ -32,8 +30,7 @@ SweepStore::SweepStore(fs::path root) : root_(std::move(root)) {
         m["state"] = "interrupted";
         save_locked(m);
       }
-      sweeps_[n] = std::move(m);
-      next_ = std::max(next_, n + 1);
+      sweeps_.add(p.stem().string(), std::move(m));
     } catch (const std::exception& ex) {
       std::cerr << "store: skipping sweep '" << p.stem().string() << "': " << ex.what() << "\n";
     }
@@ -48,8 +45,7 @@ void SweepStore::save_locked(const nlohmann::json& record) const {
 std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, nlohmann::json frames,
                                std::size_t total) {
   std::lock_guard lock(mu_);
-  const std::uint64_t n = next_++;
-  const std::string id = store_id('s', n);
+  const std::string id = sweeps_.next_id();
   nlohmann::json record = {{"id", id},
                            {"spec", std::move(spec)},
                            {"videos", std::move(videos)},
@@ -61,36 +57,27 @@ std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, nlohm
                            {"job", nullptr},
                            {"created", utc_now_iso()}};
   save_locked(record);
-  sweeps_[n] = std::move(record);
+  sweeps_.add(id, std::move(record));
   return id;
 }
 
-namespace {
-template <typename Map>
-auto& find(Map& sweeps, const std::string& id) {
-  auto it = sweeps.find(store_id_number(id, 's'));
-  if (it == sweeps.end()) throw not_found("sweep", "sweep '" + id + "' does not exist");
-  return it->second;
-}
-}  // namespace
-
 void SweepStore::set_job(const std::string& id, const std::string& job) {
   std::lock_guard lock(mu_);
-  nlohmann::json& r = find(sweeps_, id);
+  nlohmann::json& r = sweeps_.at(id, "sweep");
   r["job"] = job;
   save_locked(r);
 }
 
 void SweepStore::add_run(const std::string& id, const std::string& run) {
   std::lock_guard lock(mu_);
-  nlohmann::json& r = find(sweeps_, id);
+  nlohmann::json& r = sweeps_.at(id, "sweep");
   r["runs"].push_back(run);
   save_locked(r);
 }
 
 void SweepStore::finish(const std::string& id, const std::string& state) {
   std::lock_guard lock(mu_);
-  nlohmann::json& r = find(sweeps_, id);
+  nlohmann::json& r = sweeps_.at(id, "sweep");
   r["state"] = state;
   r["done"] = state == "done";
   save_locked(r);
@@ -98,14 +85,12 @@ void SweepStore::finish(const std::string& id, const std::string& state) {
 
 nlohmann::json SweepStore::get(const std::string& id) const {
   std::lock_guard lock(mu_);
-  return find(sweeps_, id);
+  return sweeps_.at(id, "sweep");
 }
 
 std::vector<nlohmann::json> SweepStore::list() const {
   std::lock_guard lock(mu_);
-  std::vector<nlohmann::json> out;
-  for (const auto& [n, r] : sweeps_) out.push_back(r);
-  return out;
+  return sweeps_.list();
 }
 
 }  // namespace trailscope::server

@@ -4,12 +4,13 @@
 // themselves live in the run store, tagged with the sweep's id.
 #include <cstdint>
 #include <filesystem>
-#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "store/item_index.hpp"
 
 namespace trailscope::server {
 
@@ -39,8 +40,7 @@ class SweepStore {
 
   std::filesystem::path root_;
   mutable std::mutex mu_;
-  std::map<std::uint64_t, nlohmann::json> sweeps_;  ///< number → record
-  std::uint64_t next_ = 1;
+  ItemIndex sweeps_{'s', "sweep"};  ///< id → record
 };
 
 }  // namespace trailscope::server

@@ -1,14 +1,11 @@
 #include "store/video_store.hpp"
 
-#include <algorithm>
 #include <fstream>
-#include <iostream>
 
 #include "store/column_io.hpp"
 #include "store/dataset_ingest.hpp"
-#include "store/graph_store.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/tof/depth_render.hpp"
 #include "trailscope/tof/depth_video_io.hpp"
 
@@ -58,67 +55,43 @@ void write_meta(const fs::path& dir, const nlohmann::json& meta) {
 }
 }  // namespace
 
-VideoStore::VideoStore(fs::path root) : root_(std::move(root)) {
-  std::error_code ec;
-  for (const char* sub : {"videos", "tmp"}) {
-    fs::create_directories(root_ / sub, ec);
-    if (ec) throw io_error(root_ / sub, "create");
-  }
-  for (const auto& e : fs::directory_iterator(root_ / "tmp"))
-    if (e.path().filename().string().rfind("video.", 0) == 0) fs::remove_all(e.path(), ec);
-  for (const auto& e : fs::directory_iterator(root_ / "videos")) {
-    const std::string id = e.path().filename().string();
-    const std::uint64_t n = store_id_number(id, 'v');
-    if (!e.is_directory() || n == 0 || !fs::exists(e.path() / kMetaFile, ec)) continue;
-    try {
-      std::ifstream in(e.path() / kMetaFile);
-      nlohmann::json m = nlohmann::json::parse(in);
-      if (m.value("magic", "") != kMagic || !fs::exists(e.path() / kPackFile, ec))
-        throw io_error(e.path(), "recognise the format of");
-      m.erase("magic");
-      meta_[id] = std::move(m);
-      ids_[n] = id;
-      next_ = std::max(next_, n + 1);
-    } catch (const std::exception& ex) {
-      std::cerr << "store: skipping video '" << id << "': " << ex.what() << "\n";
-    }
-  }
-}
+VideoStore::VideoStore(fs::path root)
+    : folders_(std::move(root), {"video", "videos", 'v', kMetaFile}, [](const fs::path& dir) {
+        std::ifstream in(dir / kMetaFile);
+        nlohmann::json m = nlohmann::json::parse(in);
+        std::error_code ec;
+        if (m.value("magic", "") != kMagic || !fs::exists(dir / kPackFile, ec))
+          throw io_error(dir, "recognise the format of");
+        m.erase("magic");
+        return m;
+      }) {}
 
 std::vector<nlohmann::json> VideoStore::list() const {
-  std::lock_guard lock(mu_);
-  std::vector<nlohmann::json> out;
-  for (const auto& [n, id] : ids_) out.push_back(meta_.at(id));
-  return out;
+  return folders_.list();
 }
 
 nlohmann::json VideoStore::meta(const std::string& id) const {
-  std::lock_guard lock(mu_);
-  auto it = meta_.find(id);
-  if (it == meta_.end()) throw not_found("video", "video '" + id + "' does not exist");
-  return it->second;
+  return folders_.meta(id);
 }
 
 fs::path VideoStore::pack_path(const std::string& id) const {
-  std::lock_guard lock(mu_);
-  if (!meta_.count(id)) throw not_found("video", "video '" + id + "' does not exist");
-  return root_ / "videos" / id / kPackFile;
+  folders_.check(id);
+  return folders_.dir(id) / kPackFile;
 }
 
 std::string VideoStore::find_by_name(const std::string& name) const {
-  std::lock_guard lock(mu_);
-  for (const auto& [n, id] : ids_)
-    if (meta_.at(id).value("name", "") == name) return id;
+  for (const nlohmann::json& m : folders_.list())
+    if (m.value("name", "") == name) return m.at("id").get<std::string>();
   return "";
 }
 
 std::string VideoStore::reserve() {
   std::lock_guard lock(mu_);
-  if (ids_.size() + pending_.size() >= limits::kMaxStoredVideos)
+  if (folders_.size() + pending_.size() >= limits::kMaxStoredVideos)
     throw Error(Error::Kind::conflict, "video",
                 "the server stores at most " + std::to_string(limits::kMaxStoredVideos) +
                     " videos (kMaxStoredVideos); delete one first");
-  std::string id = store_id('v', next_++);
+  std::string id = folders_.next_id();
   pending_.insert(id);
   return id;
 }
@@ -136,19 +109,14 @@ nlohmann::json VideoStore::publish(const std::string& id, const fs::path& tmp, n
   meta["bytes"] = fs::file_size(pack, ec);
   fsync_path(pack);
   write_meta(tmp, meta);  // last: a folder without meta.json is incomplete
-  const fs::path final_dir = root_ / "videos" / id;
-  fs::rename(tmp, final_dir, ec);  // atomic: the video appears whole or not at all
-  if (ec) throw io_error(final_dir, "rename into");
-  fsync_path(root_ / "videos");
   std::lock_guard lock(mu_);
+  folders_.publish(id, tmp, meta);  // atomic: the video appears whole or not at all
   pending_.erase(id);
-  ids_[store_id_number(id, 'v')] = id;
-  meta_[id] = meta;
   return meta;
 }
 
 nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& file, std::string name) {
-  const fs::path tmp = root_ / "tmp" / ("video." + id + "." + random_suffix());
+  fs::path tmp;
   std::error_code ec;
   try {
     nlohmann::json meta;
@@ -164,8 +132,7 @@ nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& fi
     } catch (const Error& e) {
       throw rename_upload(e, file);
     }
-    fs::create_directories(tmp, ec);
-    if (ec) throw io_error(tmp, "create");
+    tmp = folders_.stage(id);
     fs::rename(file, tmp / kPackFile, ec);
     if (ec) {  // another file system: copy instead
       ec.clear();
@@ -186,11 +153,10 @@ nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& fi
 
 nlohmann::json VideoStore::commit_synthetic(const std::string& id, const tof::SynthOptions& options,
                                             std::string name, const ProgressFn& progress) {
-  const fs::path tmp = root_ / "tmp" / ("video." + id + "." + random_suffix());
+  fs::path tmp;
   std::error_code ec;
   try {
-    fs::create_directories(tmp, ec);
-    if (ec) throw io_error(tmp, "create");
+    tmp = folders_.stage(id);
     tof::WriteOptions wo;
     wo.layout = tof::VideoLayout::pack;
     tof::write_synthetic_video(options, tmp / kPackFile, wo, progress);
@@ -208,22 +174,13 @@ nlohmann::json VideoStore::commit_synthetic(const std::string& id, const tof::Sy
 }
 
 void VideoStore::remove(const std::string& id) {
-  std::lock_guard lock(mu_);
-  if (!meta_.count(id)) throw not_found("video", "video '" + id + "' does not exist");
-  const fs::path gone = root_ / "tmp" / ("video." + id + ".deleted." + random_suffix());
-  std::error_code ec;
-  fs::rename(root_ / "videos" / id, gone, ec);
-  if (ec) throw io_error(root_ / "videos" / id, "remove");
-  ids_.erase(store_id_number(id, 'v'));
-  meta_.erase(id);
   // A replay or track job still reading the pack fails at its next frame (the reader reopens the file per
   // frame) and reports that as its error; nothing half-deleted stays behind.
-  fs::remove_all(gone, ec);
+  folders_.remove(id);
 }
 
 std::size_t VideoStore::size() const {
-  std::lock_guard lock(mu_);
-  return ids_.size();
+  return folders_.size();
 }
 
 }  // namespace trailscope::server

@@ -1,12 +1,11 @@
 #pragma once
 // Depth videos the tracker runs on, persisted under <root>/videos/<id>/: the video as one pack file
 // (video.tsdv, proto/depth_video.md) and meta.json (id, name, created, bytes, origin and the video's
-// description) written last. A video is assembled in <root>/tmp/ and renamed into place, so after a
-// crash it is there whole or not at all. At most limits::kMaxStoredVideos are kept; one more is refused
-// (409) rather than deleting a user's upload to make room.
+// description) written last (a FolderStore, folder_store.hpp: assembled in <root>/tmp/ and renamed into
+// place, so after a crash it is there whole or not at all). At most limits::kMaxStoredVideos are kept; one
+// more is refused (409) rather than deleting a user's upload to make room.
 #include <cstdint>
 #include <filesystem>
-#include <map>
 #include <mutex>
 #include <set>
 #include <string>
@@ -14,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/folder_store.hpp"
 #include "trailscope/core/progress.hpp"
 #include "trailscope/tof/synth.hpp"
 
@@ -60,12 +60,9 @@ class VideoStore {
  private:
   nlohmann::json publish(const std::string& id, const std::filesystem::path& tmp, nlohmann::json meta);
 
-  std::filesystem::path root_;
-  mutable std::mutex mu_;
-  std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
-  std::map<std::string, nlohmann::json> meta_;
+  FolderStore folders_;
+  mutable std::mutex mu_;          ///< guards pending_ and reserve's count
   std::set<std::string> pending_;  ///< reserved, not yet committed
-  std::uint64_t next_ = 1;
 };
 
 }  // namespace trailscope::server

@@ -9,6 +9,18 @@
 
 namespace trailscope::analysis {
 
+/// A result figure of a tracker run. `name` is also its dotted path into a stored run's summary
+/// (server/src/store/run_store.hpp) and its row name in a comparison (run_compare.hpp).
+struct RunMetric {
+  std::string name;
+  bool in_table = true;  ///< a column of run tables (importance, projections); else compared only
+};
+/// Every result figure of a tracker run, in order: track_share, lost_episodes, tracker_fps (compared
+/// only), accuracy.median_error_mm, accuracy.p95_error_mm, accuracy.frames_all_within.
+const std::vector<RunMetric>& run_metrics();
+/// The names of the run_metrics() that are columns of run tables, in order.
+const std::vector<std::string>& table_metric_names();
+
 /// One run's figures. `params` in `param_names` order; `metrics` by name, NaN where the run has none.
 struct RunFigures {
   std::string id;

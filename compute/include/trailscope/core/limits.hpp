@@ -1,26 +1,12 @@
 #pragma once
-// Every limit TrailScope enforces, in one place. README.md ("Limits") and proto/openapi.yaml list the same
-// values; tests/server/openapi_test.cpp checks that the OpenAPI file quotes them.
+// Every limit the compute library enforces, in one place; the server's own limits (requests, uploads,
+// stores, replays) are in server/src/limits.hpp, in the same namespace. README.md ("Limits") and
+// proto/openapi.yaml list the values of both; tests/server/openapi_test.cpp checks that the OpenAPI file
+// quotes them.
 #include <cstddef>
 #include <cstdint>
 
 namespace trailscope::limits {
-
-// --- uploads and requests --------------------------------------------------------------------------
-/// Largest dataset upload accepted by POST /api/v1/datasets (bytes, compressed as sent). Keeps one
-/// upload from filling the disk of a single-machine deployment.
-inline constexpr std::uint64_t kMaxUploadBytes = 2ull << 30;  // 2 GiB
-/// Largest body of any other request (bytes).
-inline constexpr std::uint64_t kMaxRequestBodyBytes = 1u << 20;  // 1 MiB
-/// A request must arrive completely within this many seconds (slow-loris protection); uploads get
-/// kUploadTimeoutSeconds instead.
-inline constexpr int kRequestTimeoutSeconds = 30;
-inline constexpr int kUploadTimeoutSeconds = 3600;
-/// Largest WebSocket message the server accepts from a client (bytes).
-inline constexpr std::size_t kMaxWebSocketMessageBytes = 64u << 10;
-
-/// Ended jobs the server remembers for GET /api/v1/jobs/{id}; older ones are forgotten (404).
-inline constexpr std::size_t kMaxFinishedJobs = 1000;
 
 // --- queries -----------------------------------------------------------------------------------------
 /// Longest time window a query may ask for, t1 - t0 (seconds): 366 days.
@@ -29,15 +15,10 @@ inline constexpr double kMaxQuerySpanSeconds = 366.0 * 86400.0;
 inline constexpr std::size_t kMaxIcao24PerQuery = 1000;
 /// Longest callsign pattern (characters).
 inline constexpr std::size_t kMaxCallsignPatternLength = 16;
-/// Flights per page of GET .../flights (default kDefaultPageSize).
+/// Flights per page of GET .../flights (default limits::kDefaultPageSize, server/src/limits.hpp).
 inline constexpr std::size_t kMaxPageSize = 1000;
-inline constexpr std::size_t kDefaultPageSize = 100;
-/// Points returned by one response (a flight's GeoJSON); longer flights are refused with 413 unless
-/// the client asks for a coarser `max_points` sampling.
-inline constexpr std::size_t kMaxPointsPerResponse = 200000;
 /// Bins of a summary histogram.
 inline constexpr int kMaxHistogramBins = 1000;
-inline constexpr int kDefaultHistogramBins = 96;
 /// Entries of the summary's top-callsigns list.
 inline constexpr int kMaxTopCallsigns = 100;
 
@@ -49,8 +30,6 @@ inline constexpr int kTileSizeSmall = 256;
 inline constexpr int kTileSizeLarge = 512;
 /// Largest KDE kernel radius (pixels) a density request may ask for.
 inline constexpr int kMaxKernelRadiusPx = 32;
-/// Bytes of rendered PNG tiles kept by the server's LRU cache.
-inline constexpr std::size_t kTileCacheBytes = 256u << 20;
 
 // --- ingest ------------------------------------------------------------------------------------------
 /// Two consecutive samples of one aircraft further apart than this (seconds) start a new flight.
@@ -67,8 +46,6 @@ inline constexpr std::size_t kMaxBundleInputPoints = 50'000'000;
 inline constexpr std::size_t kMaxBundlePoints = 64'000'000;
 /// Largest graph upload, POST /api/v1/graphs (bytes).
 inline constexpr std::uint64_t kMaxGraphUploadBytes = 256ull << 20;
-/// Bundles the server keeps (the oldest is deleted beyond this).
-inline constexpr std::size_t kMaxStoredBundles = 100;
 /// Largest rendered bundle image edge (pixels).
 inline constexpr int kMaxBundleImagePx = 8192;
 
@@ -105,22 +82,6 @@ inline constexpr std::uint64_t kMaxVideoManifestBytes = 256ull << 20;
 /// Most memory one whole-video load may take (frames * pixels * 8 bytes of float depth + amplitude);
 /// longer videos are read frame by frame (DepthVideoReader).
 inline constexpr std::uint64_t kMaxVideoLoadBytes = 4ull << 30;  // 4 GiB
-
-// --- stored videos, tracker runs and live replays (server) -------------------------------------------
-/// Depth videos the server stores (uploads and synthetic); one more is refused (409) until one is deleted,
-/// since a user's upload must never disappear to make room.
-inline constexpr std::size_t kMaxStoredVideos = 100;
-/// Tracker runs the server stores (uploaded logs, track jobs, ended replays); one more is refused (409).
-/// Parameter sweeps make a few hundred to a few thousand; a 1000-frame log is about 1 MB.
-inline constexpr std::size_t kMaxStoredRuns = 10000;
-/// Frame records per page of GET /api/v1/runs/{run}/frames (default kDefaultRunFramesPerPage); a record
-/// with its candidates is a few KB of JSON.
-inline constexpr std::size_t kMaxRunFramesPerPage = 1000;
-inline constexpr std::size_t kDefaultRunFramesPerPage = 100;
-/// Live replays at once: each holds a thread while it tracks and its frame logs in memory.
-inline constexpr std::size_t kMaxReplays = 8;
-/// Viewers (WebSocket connections) of one replay at once.
-inline constexpr std::size_t kMaxReplayViewers = 32;
 
 // Projections
 /// Most rows (points) of a table to project: the t-SNE kNN and the quality metrics are brute force, so
@@ -162,10 +123,5 @@ inline constexpr std::size_t kMaxCompareRuns = 8;
 inline constexpr std::size_t kMaxCompareFrames = 50'000;
 /// Most disagreement frames one comparison lists.
 inline constexpr std::size_t kMaxCompareTop = 1000;
-/// Most rows and cells (rows × columns) of a table POST /api/v1/projections projects: the request is
-/// answered synchronously (a t-SNE of 20k rows takes tens of seconds here); larger tables go through
-/// `trailscope project`, which reads a CSV file and shows progress.
-inline constexpr std::size_t kMaxProjectionRequestRows = 20'000;
-inline constexpr std::size_t kMaxProjectionRequestCells = 2'000'000;
 
 }  // namespace trailscope::limits

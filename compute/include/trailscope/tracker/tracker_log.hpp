@@ -5,6 +5,8 @@
 // proto/tracker_log.md. Files: binary protobuf (".tslog") or JSON (".json"), written atomically.
 #include <cstddef>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -83,16 +85,41 @@ struct RunOptions {
   std::size_t first_frame = 0;
   std::size_t frame_count = 0;  ///< 0 = to the end
 };
-/// Runs a tracker over every frame of the video at `video` (any DepthVideoReader source) and returns the
-/// log with the video's ground truth. Progress ("track") about every 1 % of the frames; cancellation by
-/// throwing from progress.
-/// FrameLog::index is the frame's number in the video (first_frame + i). Throws
-/// Error(invalid_argument, "first_frame" / "frame_count") for a range outside the video, as
-/// DepthVideoReader and Tracker otherwise.
+/// Called after each tracked frame with its record and its ground truth (nullopt when the video has none
+/// for it); returning false stops the run after that frame.
+using FrameFn = std::function<bool(const FrameLog& frame, const std::optional<tof::FrameTruth>& truth)>;
+
+/// One run of a tracker over a depth video, made ready before it starts: the video is open, the frame
+/// range checked, the tracker built and the log's header assembled (run id "run-YYYYMMDD-HHMMSS-xxxx",
+/// creation time, the full parameter vector, templates, intrinsics, fps, video source; frame_count = the
+/// frames of the range). A caller thus sees bad parameters or a bad range before tracking, and can show
+/// the header while frames are tracked (the server's live replay).
+class TrackerRun {
+ public:
+  /// Opens `video` (any DepthVideoReader source). Throws Error(invalid_argument, "first_frame" /
+  /// "frame_count") for a range outside the video, as DepthVideoReader and Tracker otherwise.
+  TrackerRun(const std::filesystem::path& video, const TrackerParams& params, const RunOptions& options = {});
+  ~TrackerRun();
+  TrackerRun(const TrackerRun&) = delete;
+  TrackerRun& operator=(const TrackerRun&) = delete;
+
+  const RunHeader& header() const;
+  /// Tracks the range and returns the log with the video's ground truth (header().frame_count becomes the
+  /// frames tracked). FrameLog::index is the frame's number in the video (first_frame + i). Progress
+  /// ("track") about every 1 % of the frames; `on_frame` after every frame. Cancellation by throwing from
+  /// either. Call once.
+  TrackerLog run(const ProgressFn& progress = {}, const FrameFn& on_frame = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// TrackerRun(video, params, options).run(progress): the whole run in one call.
 TrackerLog run_tracker(const std::filesystem::path& video, const TrackerParams& params,
                        const RunOptions& options = {}, const ProgressFn& progress = {});
 
-// --- accuracy against ground truth (the tracker issue's acceptance figures) ---
+// --- accuracy against ground truth (the figures a tracker run is judged by) ---
 struct TeatAccuracy {
   std::size_t visible_frames = 0;  ///< frames where the truth says visible
   std::size_t reported = 0;        ///< of those, frames where the tracker reported the teat visible

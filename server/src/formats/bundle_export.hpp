@@ -26,7 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "store/bundle_store.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server {
 

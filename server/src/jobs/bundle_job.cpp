@@ -1,4 +1,4 @@
-#include "store/bundle_request.hpp"
+#include "jobs/bundle_job.hpp"
 
 #include <cmath>
 
@@ -64,6 +64,20 @@ std::shared_ptr<StoredBundle> run_bundle(BundleInput in, const std::string& id,
   sb->units = in.units;
   sb->input_points = in.input_points;
   return sb;
+}
+
+JobState submit_bundle(JobManager& jobs, std::shared_ptr<BundleStore> store, BundleInput in, std::string id,
+                       const bundling::BundleParams& params, Backend backend, std::string source) {
+  auto input = std::make_shared<BundleInput>(std::move(in));
+  return jobs.submit(
+      "bundle", std::move(source),
+      [store, input, id, params, backend](const ProgressFn& progress, const CancelToken& cancel) {
+        const auto sb = run_bundle(std::move(*input), id, params, backend, progress, &cancel);
+        // Bundles evicted beyond kMaxStoredBundles keep their cached tiles until the LRU
+        // drops them: their keys can never be asked for again.
+        store->put(sb);
+        return sb->to_json();
+      });
 }
 
 }  // namespace trailscope::server

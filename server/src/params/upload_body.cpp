@@ -1,6 +1,7 @@
-#include "routes/upload_body.hpp"
+#include "params/upload_body.hpp"
 
 #include <fstream>
+#include <random>
 
 #include "trailscope/core/error.hpp"
 
@@ -38,6 +39,19 @@ std::string upload_bytes(const Request& req, std::uint64_t limit, const std::str
   if (bytes.empty()) throw invalid_argument("body", "body: the upload is empty");
   if (bytes.size() > limit) throw Error(Error::Kind::payload_too_large, "body", too_large);
   return bytes;
+}
+
+fs::path upload_file(const Request& req, const fs::path& dir) {
+  if (!req.body_file.empty()) return req.body_file;
+  if (req.body.empty()) throw invalid_argument("body", "body: the upload is empty");
+  // Small bodies (tests, scripts) arrive in memory; the jobs read files, so spill it.
+  std::random_device rd;
+  const fs::path file = dir / ("inline-" + std::to_string(rd()) + std::to_string(rd()));
+  std::ofstream out(file, std::ios::binary);
+  out.write(req.body.data(), static_cast<std::streamsize>(req.body.size()));
+  out.close();
+  if (!out) throw Error(Error::Kind::internal, "", "cannot write upload to " + file.string());
+  return file;
 }
 
 }  // namespace trailscope::server

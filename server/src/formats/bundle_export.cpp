@@ -1,4 +1,4 @@
-#include "store/bundle_export.hpp"
+#include "formats/bundle_export.hpp"
 
 #include <bit>
 #include <cmath>

@@ -1,41 +1,17 @@
-#include "routes/bundle_body.hpp"
+#include "params/bundle_body.hpp"
 
 #include <algorithm>
-#include <cmath>
 
-#include "routes/params.hpp"
+#include "params/json_fields.hpp"
+#include "params/query_params.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/trails/query.hpp"
 
 namespace trailscope::server {
 
-namespace {
-/// A JSON scalar as the text BundleParams::set and parse_query read ("32", "0.5", "true", "hourglass").
-std::string scalar_text(const nlohmann::json& v, const std::string& name) {
-  if (v.is_string()) return v.get<std::string>();
-  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
-  if (v.is_number_integer() || v.is_number_unsigned()) return v.dump();
-  if (v.is_number_float()) {
-    // dump() prints 32.0 for a whole float; the parameter parsers take either, but 32 reads better.
-    const double d = v.get<double>();
-    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) return std::to_string(std::int64_t(d));
-    return v.dump();
-  }
-  throw invalid_argument(name, name + ": must be a string, a number or a boolean");
-}
-
-void reject_unknown_fields(const nlohmann::json& obj, std::initializer_list<const char*> allowed,
-                           const std::string& where) {
-  for (const auto& [k, v] : obj.items())
-    if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; }))
-      throw invalid_argument(k, "unknown field '" + k + "' in " + where);
-}
-}  // namespace
-
 BundleRequest parse_bundle_request(const std::string& body) {
-  const nlohmann::json j = nlohmann::json::parse(body, nullptr, false);
-  if (j.is_discarded() || !j.is_object())
-    throw invalid_argument("body", "body: a JSON object {\"source\": ..., \"params\": ...} is required");
+  const nlohmann::json j =
+      parse_json_object(body, "body: a JSON object {\"source\": ..., \"params\": ...} is required");
   reject_unknown_fields(j, {"source", "params", "backend"}, "the body");
   BundleRequest r;
   const auto src = j.find("source");

@@ -1,6 +1,7 @@
-#include "routes/params.hpp"
+#include "params/query_params.hpp"
 
 #include <charconv>
+#include <cmath>
 
 #include "trailscope/core/error.hpp"
 
@@ -33,6 +34,22 @@ std::int64_t integer(const Request& req, const std::string& name, std::int64_t f
                      std::int64_t hi) {
   auto it = req.query.find(name);
   return it == req.query.end() ? fallback : parse_int(it->second, name, lo, hi);
+}
+
+double number(const Request& req, const std::string& name, double fallback) {
+  auto it = req.query.find(name);
+  if (it == req.query.end()) return fallback;
+  const std::string& text = it->second;
+  double v = 0;
+  auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || p != text.data() + text.size() || text.empty() || !std::isfinite(v))
+    throw invalid_argument(name, name + ": '" + text + "' is not a number");
+  return v;
+}
+
+std::string text(const Request& req, const std::string& name, const std::string& fallback) {
+  auto it = req.query.find(name);
+  return it == req.query.end() ? fallback : it->second;
 }
 
 std::int64_t path_integer(const PathParams& p, const std::string& name, std::int64_t lo, std::int64_t hi) {

@@ -1,6 +1,7 @@
 #pragma once
-// One bundling, from its source to a StoredBundle: the same steps for POST /api/v1/bundles and for
-// `trailscope bundle`. A source is the flight trails of a dataset under a window query, or a graph.
+// The bundle job: one bundling, from its source to a StoredBundle, the same steps for POST /api/v1/bundles
+// (submit_bundle) and for `trailscope bundle` (run_bundle). A source is the flight trails of a dataset
+// under a window query, or a graph.
 #include <limits>
 #include <map>
 #include <memory>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "store/bundle_store.hpp"
+#include "jobs/job_manager.hpp"
 #include "store/dataset_store.hpp"
 #include "store/graph_store.hpp"
 #include "trailscope/bundling/graph_io.hpp"
@@ -42,5 +44,10 @@ BundleInput input_from_graph(const bundling::Graph& g, const bundling::BundlePar
 std::shared_ptr<StoredBundle> run_bundle(BundleInput in, const std::string& id,
                                          const bundling::BundleParams& params, Backend backend,
                                          const ProgressFn& progress, const CancelToken* cancel);
+
+/// Queues a job "bundle" (JobState::dataset = `source`, the dataset or graph id) that bundles `in` as
+/// bundle `id` (BundleStore::reserve_id) and puts it into `store`; the job's result is the bundle's JSON.
+JobState submit_bundle(JobManager& jobs, std::shared_ptr<BundleStore> store, BundleInput in, std::string id,
+                       const bundling::BundleParams& params, Backend backend, std::string source);
 
 }  // namespace trailscope::server

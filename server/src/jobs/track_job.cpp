@@ -1,0 +1,18 @@
+#include "jobs/track_job.hpp"
+
+#include "trailscope/tracker/tracker_log.hpp"
+
+namespace trailscope::server {
+
+JobState submit_track(JobManager& jobs, std::shared_ptr<RunStore> runs, std::filesystem::path pack,
+                      const tracker::TrackerParams& params, const std::string& video) {
+  return jobs.submit(
+      "track", video, [runs, pack, params, video](const ProgressFn& progress, const CancelToken& cancel) {
+        tracker::RunOptions ro;
+        ro.video_id = video;
+        // run_tracker stops at the cancellation's throw; nothing is stored.
+        return runs->put(tracker::run_tracker(pack, params, ro, cancellable(progress, cancel)), "track");
+      });
+}
+
+}  // namespace trailscope::server

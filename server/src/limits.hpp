@@ -1,0 +1,73 @@
+#pragma once
+// The limits only the server enforces: requests and uploads, the stores it keeps, jobs, replays and
+// synchronous analysis requests. They extend trailscope::limits (compute/include/trailscope/core/limits.hpp,
+// the compute library's limits), so every limit reads limits::kName wherever it is used. README.md
+// ("Limits") and proto/openapi.yaml list the same values; tests/server/openapi_test.cpp checks that the
+// OpenAPI file quotes them.
+#include <cstddef>
+#include <cstdint>
+
+#include "trailscope/core/limits.hpp"
+
+namespace trailscope::limits {
+
+// --- requests and uploads --------------------------------------------------------------------------
+/// Largest dataset upload accepted by POST /api/v1/datasets (bytes, compressed as sent). Keeps one
+/// upload from filling the disk of a single-machine deployment.
+inline constexpr std::uint64_t kMaxUploadBytes = 2ull << 30;  // 2 GiB
+/// Largest body of any other request (bytes).
+inline constexpr std::uint64_t kMaxRequestBodyBytes = 1u << 20;  // 1 MiB
+/// A request must arrive completely within this many seconds (slow-loris protection); uploads get
+/// kUploadTimeoutSeconds instead.
+inline constexpr int kRequestTimeoutSeconds = 30;
+inline constexpr int kUploadTimeoutSeconds = 3600;
+/// Largest WebSocket message the server accepts from a client (bytes).
+inline constexpr std::size_t kMaxWebSocketMessageBytes = 64u << 10;
+/// Messages queued for one WebSocket client; a client that cannot keep up is dropped rather than letting
+/// its queue grow without bound.
+inline constexpr std::size_t kMaxQueuedWebSocketMessages = 1024;
+
+/// Ended jobs the server remembers for GET /api/v1/jobs/{id}; older ones are forgotten (404).
+inline constexpr std::size_t kMaxFinishedJobs = 1000;
+
+// --- queries -----------------------------------------------------------------------------------------
+/// Flights per page of GET .../flights when the request does not say (at most kMaxPageSize).
+inline constexpr std::size_t kDefaultPageSize = 100;
+/// Bins of a summary histogram when `trailscope query` is not told (at most kMaxHistogramBins).
+inline constexpr int kDefaultHistogramBins = 96;
+/// Points returned by one response (a flight's GeoJSON); longer flights are refused with 413 unless
+/// the client asks for a coarser `max_points` sampling.
+inline constexpr std::size_t kMaxPointsPerResponse = 200000;
+
+// --- tiles -------------------------------------------------------------------------------------------
+/// Bytes of rendered PNG tiles kept by the server's LRU cache.
+inline constexpr std::size_t kTileCacheBytes = 256u << 20;
+
+// --- stores ------------------------------------------------------------------------------------------
+/// Bundles the server keeps (the oldest is deleted beyond this).
+inline constexpr std::size_t kMaxStoredBundles = 100;
+/// Depth videos the server stores (uploads and synthetic); one more is refused (409) until one is deleted,
+/// since a user's upload must never disappear to make room.
+inline constexpr std::size_t kMaxStoredVideos = 100;
+/// Tracker runs the server stores (uploaded logs, track jobs, ended replays); one more is refused (409).
+/// Parameter sweeps make a few hundred to a few thousand; a 1000-frame log is about 1 MB.
+inline constexpr std::size_t kMaxStoredRuns = 10000;
+/// Frame records per page of GET /api/v1/runs/{run}/frames (default kDefaultRunFramesPerPage); a record
+/// with its candidates is a few KB of JSON.
+inline constexpr std::size_t kMaxRunFramesPerPage = 1000;
+inline constexpr std::size_t kDefaultRunFramesPerPage = 100;
+
+// --- live replays ------------------------------------------------------------------------------------
+/// Live replays at once: each holds a thread while it tracks and its frame logs in memory.
+inline constexpr std::size_t kMaxReplays = 8;
+/// Viewers (WebSocket connections) of one replay at once.
+inline constexpr std::size_t kMaxReplayViewers = 32;
+
+// --- projections -------------------------------------------------------------------------------------
+/// Most rows and cells (rows × columns) of a table POST /api/v1/projections projects: the request is
+/// answered synchronously (a t-SNE of 20k rows takes tens of seconds here); larger tables go through
+/// `trailscope project`, which reads a CSV file and shows progress.
+inline constexpr std::size_t kMaxProjectionRequestRows = 20'000;
+inline constexpr std::size_t kMaxProjectionRequestCells = 2'000'000;
+
+}  // namespace trailscope::limits
