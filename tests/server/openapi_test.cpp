@@ -59,6 +59,7 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kRequestTimeoutSeconds", L::kRequestTimeoutSeconds},
       {"kUploadTimeoutSeconds", L::kUploadTimeoutSeconds},
       {"kMaxWebSocketMessageBytes", double(L::kMaxWebSocketMessageBytes)},
+      {"kMaxQueuedWebSocketMessages", double(L::kMaxQueuedWebSocketMessages)},
       {"kMaxFinishedJobs", double(L::kMaxFinishedJobs)},
       {"kMaxQuerySpanSeconds", L::kMaxQuerySpanSeconds},
       {"kMaxIcao24PerQuery", double(L::kMaxIcao24PerQuery)},

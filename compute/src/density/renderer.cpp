@@ -4,13 +4,13 @@
 #include <chrono>
 #include <bit>
 #include <cmath>
-#include <cstdio>
 #include <future>
 #include <list>
 #include <mutex>
 #include <unordered_map>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 #include "trailscope/density/colormap.hpp"
 #include "trailscope/geo/web_mercator.hpp"
 
@@ -156,14 +156,6 @@ SpanStats level_span(const SpanStats& coarse, DensityValue value, const SpanPlan
   return rescale_span(coarse, count ? plan.shrink : 1.0, count && kernel_radius == 0 ? 1.0 : -1e300);
 }
 
-// %.17g, not the shortest text of core/text.hpp: this is part of the tile cache key, and a different
-// spelling of the same number would orphan every cached tile.
-std::string gap_text(double g) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", g);
-  return buf;
-}
-
 }  // namespace
 
 SpanStats estimate_span(const TrailSet& trails, const Query& query, DensityValue value, int z, int tile_size,
@@ -262,7 +254,7 @@ std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trail
   validate(request);
   const char sep = '\x1f';
   const std::string base = dataset_key + sep + query.canonical() + sep + to_string(request.value) + sep;
-  const std::string gap = gap_text(request.max_gap_seconds);
+  const std::string gap = format_double(request.max_gap_seconds);
   const std::string key = base + "z" + std::to_string(request.tile.z) + sep + std::to_string(request.size) +
                           sep + std::to_string(request.kernel_radius) + sep + gap;
   return spans_->get(
@@ -271,7 +263,8 @@ std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trail
         const SpanPlan plan = plan_span(trails, query, request.tile.z, request.size, request.kernel_radius);
         if (plan.empty) return SpanStats{};
         const std::string coarse_key = base + "zs" + std::to_string(plan.zs) + sep +
-                                       std::to_string(request.size) + sep + gap_text(plan.radius) + sep + gap;
+                                       std::to_string(request.size) + sep + format_double(plan.radius) + sep +
+                                       gap;
         const auto coarse = coarse_->get(
             coarse_key,
             [&] {

@@ -1,7 +1,7 @@
 #include "trailscope/tracker/params.hpp"
 
 #include <cmath>
-#include <sstream>
+#include <string>
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/text.hpp"
@@ -83,30 +83,20 @@ const std::vector<Row>& rows() {
 const Row& find(std::string_view name) {
   for (const auto& r : rows())
     if (r.info.name == name) return r;
-  std::ostringstream os;
-  os << "unknown tracker parameter '" << name << "'";
-  throw invalid_argument(std::string(name), os.str());
+  throw invalid_argument(std::string(name), "unknown tracker parameter '" + std::string(name) + "'");
 }
 
 double value_of(const TrackerParams& p, const Row& r) {
   return r.d ? p.*(r.d) : double(p.*(r.i));
 }
 
-// Messages print numbers as std::ostream does (6 significant digits), not core/text.hpp's shortest
-// round-trip text: the API's and CLI's error messages are kept as they are.
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
 void check_range(const Row& r, double v) {
   const auto& in = r.info;
   if (!std::isfinite(v) || v < in.min || v > in.max)
-    throw invalid_argument(in.name,
-                           in.name + " must be in [" + fmt(in.min) + ", " + fmt(in.max) + "], got " + fmt(v));
+    throw invalid_argument(in.name, in.name + " must be in [" + format_double(in.min) + ", " +
+                                        format_double(in.max) + "], got " + format_double(v));
   if (in.integer && v != std::floor(v))
-    throw invalid_argument(in.name, in.name + " must be a whole number, got " + fmt(v));
+    throw invalid_argument(in.name, in.name + " must be a whole number, got " + format_double(v));
 }
 
 }  // namespace
@@ -142,20 +132,21 @@ void set_param(TrackerParams& p, std::string_view name, double value) {
 void validate(const TrackerParams& p) {
   for (const auto& r : rows()) check_range(r, value_of(p, r));
   if (p.median_k % 2 == 0)
-    throw invalid_argument("median_k", "median_k must be 1, 3 or 5, got " + fmt(p.median_k));
+    throw invalid_argument("median_k", "median_k must be 1, 3 or 5, got " + format_double(p.median_k));
   if (p.z_min_mm >= p.z_max_mm)
-    throw invalid_argument("z_max_mm",
-                           "z_max_mm must exceed z_min_mm (" + fmt(p.z_min_mm) + "), got " + fmt(p.z_max_mm));
+    throw invalid_argument("z_max_mm", "z_max_mm must exceed z_min_mm (" + format_double(p.z_min_mm) +
+                                           "), got " + format_double(p.z_max_mm));
   if (p.r_min_mm >= p.r_max_mm)
-    throw invalid_argument("r_max_mm",
-                           "r_max_mm must exceed r_min_mm (" + fmt(p.r_min_mm) + "), got " + fmt(p.r_max_mm));
+    throw invalid_argument("r_max_mm", "r_max_mm must exceed r_min_mm (" + format_double(p.r_min_mm) +
+                                           "), got " + format_double(p.r_max_mm));
   if (p.template_min_px > p.template_max_px)
     throw invalid_argument("template_max_px", "template_max_px must be at least template_min_px (" +
-                                                  fmt(p.template_min_px) + "), got " +
-                                                  fmt(p.template_max_px));
+                                                  format_double(p.template_min_px) + "), got " +
+                                                  format_double(p.template_max_px));
   if (p.spacing_min_mm >= p.spacing_max_mm)
     throw invalid_argument("spacing_max_mm", "spacing_max_mm must exceed spacing_min_mm (" +
-                                                 fmt(p.spacing_min_mm) + "), got " + fmt(p.spacing_max_mm));
+                                                 format_double(p.spacing_min_mm) + "), got " +
+                                                 format_double(p.spacing_max_mm));
 }
 
 }  // namespace trailscope::tracker

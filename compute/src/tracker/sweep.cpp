@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <sstream>
 
 #include "core/rng.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/core/text.hpp"
 
 namespace trailscope::tracker {
 namespace {
@@ -16,12 +16,6 @@ const ParamInfo& info_of(const std::string& name) {
   for (const auto& i : parameter_infos())
     if (i.name == name) return i;
   throw invalid_argument("axes", "unknown tracker parameter '" + name + "' in axes");
-}
-
-std::string num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
 }
 
 // splitmix64 (core/rng.hpp), as everywhere a seeded stream must give the same points on every machine.
@@ -46,9 +40,9 @@ std::vector<TrackerParams> sweep_points(const SweepSpec& spec) {
     if (!seen.insert(a.param).second)
       throw invalid_argument("axes", "parameter '" + a.param + "' appears twice in axes");
     if (!(a.min <= a.max) || a.min < in.min || a.max > in.max)
-      throw invalid_argument("axes", "axis " + a.param + " must lie within [" + num(in.min) + ", " +
-                                         num(in.max) + "] with min <= max, got [" + num(a.min) + ", " +
-                                         num(a.max) + "]");
+      throw invalid_argument("axes", "axis " + a.param + " must lie within [" + format_double(in.min) + ", " +
+                                         format_double(in.max) + "] with min <= max, got [" +
+                                         format_double(a.min) + ", " + format_double(a.max) + "]");
     if (spec.mode == SweepMode::grid && (a.steps < 2 || a.steps > 100))
       throw invalid_argument("axes",
                              "axis " + a.param + " needs 2..100 steps, got " + std::to_string(a.steps));
@@ -64,7 +58,8 @@ std::vector<TrackerParams> sweep_points(const SweepSpec& spec) {
     for (const auto& a : spec.axes) total *= a.steps;
     if (total > double(limits::kMaxSweepRuns))
       throw Error(Error::Kind::payload_too_large, "axes",
-                  "the grid has " + num(total) + " points, at most " + std::to_string(limits::kMaxSweepRuns));
+                  "the grid has " + format_double(total) + " points, at most " +
+                      std::to_string(limits::kMaxSweepRuns));
     std::vector<int> at(spec.axes.size(), 0);
     std::set<std::vector<double>> kept;
     for (std::size_t n = 0; n < static_cast<std::size_t>(total); ++n) {

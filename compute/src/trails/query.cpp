@@ -9,6 +9,7 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/core/text.hpp"
 
 namespace trailscope {
 
@@ -102,22 +103,33 @@ bool Query::may_match(const Flight& f) const {
 }
 
 std::string Query::canonical() const {
-  std::ostringstream o;
-  o.precision(17);
-  if (bbox)
-    o << "bbox=" << bbox->west << ',' << bbox->south << ',' << bbox->east << ',' << bbox->north << '&';
-  if (t0) o << "t0=" << *t0 << '&';
-  if (t1) o << "t1=" << *t1 << '&';
-  if (alt_min) o << "alt_min_m=" << *alt_min << '&';
-  if (alt_max) o << "alt_max_m=" << *alt_max << '&';
-  if (!icao24.empty()) {
-    o << "icao24=";
-    for (std::size_t i = 0; i < icao24.size(); ++i) o << (i ? "," : "") << icao24[i];
-    o << '&';
+  // Numbers in their shortest round-trip text (core/text.hpp): equal queries give equal keys, and
+  // distinct values distinct keys.
+  std::string s;
+  const auto number = [&s](const char* key, double v) {
+    s += key;
+    append_shortest(s, v);
+    s += '&';
+  };
+  if (bbox) {
+    s += "bbox=";
+    for (const double v : {bbox->west, bbox->south, bbox->east, bbox->north}) {
+      append_shortest(s, v);
+      s += ',';
+    }
+    s.back() = '&';
   }
-  if (!callsign.empty()) o << "callsign=" << callsign << '&';
-  if (on_ground) o << "on_ground=" << (*on_ground ? "true" : "false") << '&';
-  std::string s = o.str();
+  if (t0) number("t0=", *t0);
+  if (t1) number("t1=", *t1);
+  if (alt_min) number("alt_min_m=", *alt_min);
+  if (alt_max) number("alt_max_m=", *alt_max);
+  if (!icao24.empty()) {
+    s += "icao24=";
+    for (std::size_t i = 0; i < icao24.size(); ++i) s += (i ? "," : "") + icao24[i];
+    s += '&';
+  }
+  if (!callsign.empty()) s += "callsign=" + callsign + '&';
+  if (on_ground) s += std::string("on_ground=") + (*on_ground ? "true" : "false") + '&';
   if (!s.empty()) s.pop_back();
   return s;
 }

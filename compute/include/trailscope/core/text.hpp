@@ -3,7 +3,8 @@
 // error messages, graph and CSV files, render options). It writes the shortest text that reads back to
 // the same value (std::to_chars without a precision): "0.05", "32", "1e-07", "-0", "inf", "nan". That is
 // locale-independent and exact, unlike std::ostream (6 significant digits by default) and "%.17g"
-// (which writes 0.1 as 0.10000000000000001); the few places that keep one of those say why.
+// (which writes 0.1 as 0.10000000000000001). Fixed-width report tables (metrics/report.cpp, after
+// TrackEval's printout) are layout, not a number's text, and keep printf.
 #include <charconv>
 #include <string>
 

@@ -106,8 +106,9 @@ class TrackerRun {
   const RunHeader& header() const;
   /// Tracks the range and returns the log with the video's ground truth (header().frame_count becomes the
   /// frames tracked). FrameLog::index is the frame's number in the video (first_frame + i). Progress
-  /// ("track") about every 1 % of the frames; `on_frame` after every frame. Cancellation by throwing from
-  /// either. Call once.
+  /// ("track") about every 1 % of the frames; `on_frame` after every frame. `on_frame` returning false
+  /// ends the run early (the log then holds the frames tracked so far); either may also cancel by
+  /// throwing, which propagates. Call once.
   TrackerLog run(const ProgressFn& progress = {}, const FrameFn& on_frame = {});
 
  private:

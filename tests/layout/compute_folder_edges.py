@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Lists the folder -> folder include edges of compute/src and fails if they form a cycle.
 
-Usage: python3 compute/tools/folder_edges.py [compute]
+Usage: python3 tests/layout/compute_folder_edges.py [compute]   (ctest: compute_folder_edges)
 A public header trailscope/<area>/<name>.hpp belongs to the folder holding <name>.cpp under
 compute/src/<area> (so trailscope/bundling/render.hpp belongs to bundling/render), or to <area> when
 there is none; trailscope/ocl_info.hpp belongs to ocl. A detail/ subfolder counts as part of its parent
