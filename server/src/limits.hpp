@@ -38,6 +38,11 @@ inline constexpr int kDefaultHistogramBins = 96;
 /// Points returned by one response (a flight's GeoJSON); longer flights are refused with 413 unless
 /// the client asks for a coarser `max_points` sampling.
 inline constexpr std::size_t kMaxPointsPerResponse = 200000;
+/// Positions in one answer of GET .../positions (and `trailscope query positions`); more are refused with
+/// 413 unless the client narrows the filters. The world's busiest instant has about 23,000 aircraft
+/// airborne at once, so a whole-world answer fits four times over; at ~250 bytes of JSON per position a
+/// full answer is ~25 MB.
+inline constexpr std::size_t kMaxPositionsPerResponse = 100000;
 
 // --- tiles -------------------------------------------------------------------------------------------
 /// Bytes of rendered PNG tiles kept by the server's LRU cache.

@@ -67,6 +67,7 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxPageSize", double(L::kMaxPageSize)},
       {"kDefaultPageSize", double(L::kDefaultPageSize)},
       {"kMaxPointsPerResponse", double(L::kMaxPointsPerResponse)},
+      {"kMaxPositionsPerResponse", double(L::kMaxPositionsPerResponse)},
       {"kMaxHistogramBins", L::kMaxHistogramBins},
       {"kMaxTopCallsigns", L::kMaxTopCallsigns},
       {"kMinZoom", L::kMinZoom},

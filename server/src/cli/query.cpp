@@ -7,6 +7,7 @@
 #include "store/dataset_ingest.hpp"
 #include "store/embedded_store.hpp"
 #include "limits.hpp"
+#include "trailscope/trails/positions.hpp"
 #include "trailscope/trails/summary.hpp"
 
 namespace trailscope::cli {
@@ -28,6 +29,27 @@ void print_summary(const Summary& s) {
                   static_cast<unsigned long long>(c.flights));
   }
 }
+
+// One line per flight; unknown values print as "-".
+void print_positions(const Positions& at) {
+  std::printf("%zu flights at %s (t = %.3f)\n", at.positions.size(), iso_utc(at.t).c_str(), at.t);
+  if (at.positions.empty()) return;
+  std::printf("%8s %-6s %-9s %10s %11s %8s %8s %6s %8s %s\n", "id", "icao24", "callsign", "lat", "lon",
+              "alt_m", "speed_ms", "track", "vrate_ms", "ground");
+  const auto cell = [](double v, int width, int decimals) {
+    char buf[32];
+    if (v != v)
+      std::snprintf(buf, sizeof buf, "%*s", width, "-");
+    else
+      std::snprintf(buf, sizeof buf, "%*.*f", width, decimals, v);
+    return std::string(buf);
+  };
+  for (const Position& p : at.positions)
+    std::printf("%8u %-6s %-9s %s %s %s %s %s %s %s\n", p.flight_id, p.icao24.c_str(), p.callsign.c_str(),
+                cell(p.lat, 10, 5).c_str(), cell(p.lon, 11, 5).c_str(), cell(p.alt_m, 8, 0).c_str(),
+                cell(p.speed_ms, 8, 1).c_str(), cell(p.track_deg, 6, 1).c_str(),
+                cell(p.vrate_ms, 8, 1).c_str(), p.on_ground ? "yes" : "no");
+}
 }  // namespace
 
 void add_query(CLI::App& app) {
@@ -38,6 +60,8 @@ void add_query(CLI::App& app) {
     bool json = false;
     int bins = limits::kDefaultHistogramBins, top = 10;
     std::size_t page = 0, page_size = limits::kDefaultPageSize, flight_id = 0;
+    std::string t;
+    bool geojson = false;
     QueryFlags flags;
   };
   auto o = std::make_shared<Opts>();
@@ -80,6 +104,28 @@ void add_query(CLI::App& app) {
       std::printf("%8u %-6s %-9s %s .. %s %7llu pts\n", f.id, f.icao24.c_str(), f.callsign.c_str(),
                   iso_utc(f.t_start).c_str(), iso_utc(f.t_end).c_str(),
                   static_cast<unsigned long long>(f.points));
+  });
+  auto* positions = cmd->add_subcommand(
+      "positions",
+      "Every flight at one instant: position, altitude, speed, track and vertical rate interpolated "
+      "linearly between the samples around it (filters apply to the interpolated position; --t0/--t1 "
+      "are refused)");
+  common(positions);
+  positions->add_option("--t", o->t, "the instant: Unix seconds or ISO 8601 (2018-01-01T08:00:00Z)")
+      ->required();
+  positions->add_flag("--geojson", o->geojson, "print a GeoJSON FeatureCollection of Points");
+  positions->callback([o] {
+    const double t = parse_time(o->t, "t");
+    const Query q = parse_query(o->flags.params);
+    server::EmbeddedStore store(o->data_dir);
+    const auto ds = store.get(o->dataset);
+    const Positions at = positions_at(*ds->trails, t, q, limits::kMaxPositionsPerResponse);
+    if (o->geojson)
+      std::cout << json_text(at.to_geojson(), 2) << std::endl;
+    else if (o->json)
+      std::cout << json_text(at.to_json(), 2) << std::endl;
+    else
+      print_positions(at);
   });
   auto* flight = cmd->add_subcommand("flight", "One flight as GeoJSON");
   common(flight);

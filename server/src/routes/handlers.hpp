@@ -14,6 +14,8 @@ Response delete_dataset(App& app, const Request& req, const PathParams& p);
 Response summary(App& app, const Request& req, const PathParams& p);
 Response list_flights(App& app, const Request& req, const PathParams& p);
 Response get_flight(App& app, const Request& req, const PathParams& p);
+/// Every flight at the instant `t`, interpolated (trailscope/trails/positions.hpp), as JSON or GeoJSON.
+Response positions(App& app, const Request& req, const PathParams& p);
 
 Response list_jobs(App& app, const Request& req, const PathParams& p);
 Response get_job(App& app, const Request& req, const PathParams& p);
