@@ -27,15 +27,13 @@ double lerp(float a, float b, double w) {
   return a + (static_cast<double>(b) - a) * w;
 }
 
-// Longitude the shortest way round, into [-180, 180). A difference of exactly ±180° stays as it is (the
-// plain way), which is also where Flight::crosses_antimeridian draws the line (|Δlon| > 180°), so a flight
-// without that flag never leaves its [lon_min, lon_max] extent between samples.
+// Longitude the shortest way round, into [-180, 180). Whether to go across 180° is decided by the test
+// compute_extents() uses for Flight::crosses_antimeridian (|Δlon| > 180° in float; exactly 180° goes the
+// plain way), so a flight without that flag never leaves its [lon_min, lon_max] extent between samples
+// and the zone map in positions_at() stays exact.
 double lerp_lon(float a, float b, double w) {
   double d = static_cast<double>(b) - a;
-  if (d > 180)
-    d -= 360;
-  else if (d < -180)
-    d += 360;
+  if (std::fabs(b - a) > 180.0f) d += d > 0 ? -360.0 : 360.0;
   double lon = a + d * w;
   if (lon >= 180) lon -= 360;
   if (lon < -180) lon += 360;

@@ -68,9 +68,12 @@ struct Ref {
   bool ground;
 };
 
-// Unknown stays NaN; (1 - w)·a + w·b is another formula than positions.cpp's a + (b - a)·w.
+// Unknown stays NaN; (1 - w)·a + w·b is another formula than positions.cpp's a + (b - a)·w. Equal ends
+// give that value exactly, as level flight must: a flight cruising at exactly FL300 sits on the edge of an
+// FL100–FL300 band, and (1 - w)·a + w·a can round a hair above it.
 double mix(double a, double b, double w) {
-  return std::isnan(a) || std::isnan(b) ? NAN : (1 - w) * a + w * b;
+  if (std::isnan(a) || std::isnan(b)) return NAN;
+  return a == b ? a : (1 - w) * a + w * b;
 }
 
 // Difference of two angles on the circle, in [-180, 180].
