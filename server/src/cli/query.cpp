@@ -120,12 +120,10 @@ void add_query(CLI::App& app) {
     server::EmbeddedStore store(o->data_dir);
     const auto ds = store.get(o->dataset);
     const Positions at = positions_at(*ds->trails, t, q, limits::kMaxPositionsPerResponse);
-    if (o->geojson)
-      std::cout << json_text(at.to_geojson(), 2) << std::endl;
-    else if (o->json)
-      std::cout << json_text(at.to_json(), 2) << std::endl;
-    else
-      print_positions(at);
+    if (!o->geojson && !o->json) return print_positions(at);
+    nlohmann::json j = o->geojson ? at.to_geojson() : at.to_json();
+    j["dataset"] = ds->id;  // as the REST API's body
+    std::cout << json_text(j, 2) << std::endl;
   });
   auto* flight = cmd->add_subcommand("flight", "One flight as GeoJSON");
   common(flight);
