@@ -5,18 +5,8 @@
 set -uo pipefail
 BIN=$(readlink -f "$1")
 TMP=$(mktemp -d)
-PASS=0 FAIL=0
 trap 'rm -rf "$TMP"' EXIT
-
-check() {  # check NAME EXPECTED ACTUAL
-  if [ "$2" == "$3" ]; then PASS=$((PASS + 1)); echo "ok   $1"
-  else FAIL=$((FAIL + 1)); echo "FAIL $1: expected '$2', got '$3'"; fi
-}
-contains() {  # contains NAME NEEDLE FILE
-  if grep -qF -- "$2" "$3"; then PASS=$((PASS + 1)); echo "ok   $1"
-  else FAIL=$((FAIL + 1)); echo "FAIL $1: '$2' not in: $(head -c 400 "$3")"; fi
-}
-json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
+source "$(dirname "${BASH_SOURCE[0]}")/../support/cli_checks.sh"
 
 # KLM1 flies (52, 4) → (53, 6) over 00:00–00:10, 1000 → 2000 m, track 350 → 10; DLH2 stands at (50, 8).
 cat > "$TMP/pos.csv" <<'CSV'
@@ -69,5 +59,4 @@ check "unknown dataset exits 2" 2 $?
 contains "help names --t" "--t" "$TMP/help.txt"
 contains "help names --geojson" "--geojson" "$TMP/help.txt"
 
-echo "$PASS passed, $FAIL failed"
-[ "$FAIL" -eq 0 ]
+finish

@@ -5,18 +5,8 @@
 set -uo pipefail
 BIN=$(readlink -f "$1")
 TMP=$(mktemp -d)
-PASS=0 FAIL=0
 trap 'rm -rf "$TMP"' EXIT
-
-check() {  # check NAME EXPECTED ACTUAL
-  if [ "$2" == "$3" ]; then PASS=$((PASS + 1)); echo "ok   $1"
-  else FAIL=$((FAIL + 1)); echo "FAIL $1: expected '$2', got '$3'"; fi
-}
-contains() {  # contains NAME NEEDLE FILE
-  if grep -qF -- "$2" "$3"; then PASS=$((PASS + 1)); echo "ok   $1"
-  else FAIL=$((FAIL + 1)); echo "FAIL $1: '$2' not in: $(head -c 400 "$3")"; fi
-}
-json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
+source "$(dirname "${BASH_SOURCE[0]}")/../../support/cli_checks.sh"
 
 "$BIN" synth --frames 40 --seed 3 -o "$TMP/clip" > /dev/null 2>&1
 check "synth exit" 0 $?
@@ -80,5 +70,4 @@ check "compare text exit" 0 $?
 contains "compare text names the video" "2 runs of video 'clip', frames 5..34" "$TMP/out.txt"
 contains "compare text marks the differing parameter" "* ncc_min" "$TMP/out.txt"
 
-echo "$PASS passed, $FAIL failed"
-[ "$FAIL" -eq 0 ]
+finish

@@ -8,7 +8,6 @@
 //      positions within 1e-5° and altitudes within 2e-3 m, because the store keeps latitude, longitude
 //      and altitude as float32 (half an ulp is 3.8e-6° below 128° of longitude, 7.6e-6° above, and
 //      5e-4 m at 13 km), so an interpolation of the raw doubles differs by up to that.
-#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,12 +15,12 @@
 #include <filesystem>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "so6_segments.hpp"
 #include "test_support.hpp"
 #include "trailscope/ingest/ingest.hpp"
 #include "trailscope/trails/positions.hpp"
@@ -188,22 +187,6 @@ struct RawPoint {
   double t, lat, lon, alt_m;
 };
 
-std::string gunzip(const std::string& path) {
-  gzFile f = gzopen(path.c_str(), "rb");
-  EXPECT_NE(f, nullptr);
-  std::string out;
-  char buf[1 << 16];
-  int n;
-  while ((n = gzread(f, buf, sizeof buf)) > 0) out.append(buf, n);
-  gzclose(f);
-  return out;
-}
-
-double seconds(const std::string& hhmmss) {
-  const int v = std::stoi(hhmmss);
-  return kDay + (v / 10000) * 3600 + (v / 100 % 100) * 60 + v % 100;
-}
-
 std::string upper(std::string s) {
   for (char& c : s)
     if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
@@ -214,24 +197,14 @@ std::string upper(std::string s) {
 // time wins). A callsign that several flight ids share is stored as "CALLSIGN/FLIGHT_ID".
 const std::map<std::string, std::vector<RawPoint>>& raw_flights() {
   static const std::map<std::string, std::vector<RawPoint>> flights = [] {
-    std::istringstream in(gunzip(so6_path().string()));
     std::map<std::string, std::map<double, RawPoint>> by_id;
     std::map<std::string, std::string> callsign_of;
     std::map<std::string, std::set<std::string>> ids_of;
-    std::string line;
-    while (std::getline(in, line)) {
-      std::istringstream ls(line);
-      std::string seg, adep, ades, type, hb, he, flb, fle, status, cs, db, de, latb, lonb, late, lone, fid;
-      ls >> seg >> adep >> ades >> type >> hb >> he >> flb >> fle >> status >> cs >> db >> de >> latb >>
-          lonb >> late >> lone >> fid;
-      if (fid.empty()) continue;
-      callsign_of.emplace(fid, cs);
-      ids_of[cs].insert(fid);
-      const double tb = seconds(hb), te = seconds(he);
-      by_id[fid].try_emplace(
-          tb, RawPoint{tb, std::stod(latb) / 60, std::stod(lonb) / 60, std::stod(flb) * 30.48});
-      by_id[fid].try_emplace(
-          te, RawPoint{te, std::stod(late) / 60, std::stod(lone) / 60, std::stod(fle) * 30.48});
+    for (const auto& s : test::read_so6_segments(so6_path(), kDay)) {
+      callsign_of.emplace(s.flight_id, s.callsign);
+      ids_of[s.callsign].insert(s.flight_id);
+      by_id[s.flight_id].try_emplace(s.t_begin, RawPoint{s.t_begin, s.lat_begin, s.lon_begin, s.alt_begin_m});
+      by_id[s.flight_id].try_emplace(s.t_end, RawPoint{s.t_end, s.lat_end, s.lon_end, s.alt_end_m});
     }
     std::map<std::string, std::vector<RawPoint>> out;
     for (auto& [fid, pts] : by_id) {

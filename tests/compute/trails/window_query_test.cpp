@@ -1,15 +1,14 @@
 // Window queries on the real Europe SO6 day, checked against counts computed here from the raw file with
 // code that shares nothing with the ingest or the query engine.
-#include <zlib.h>
 
 #include <cmath>
 #include <map>
 #include <set>
-#include <sstream>
 #include <tuple>
 
 #include <gtest/gtest.h>
 
+#include "so6_segments.hpp"
 #include "test_support.hpp"
 #include "trailscope/ingest/ingest.hpp"
 #include "trailscope/trails/query.hpp"
@@ -23,42 +22,19 @@ struct RawPoint {
   double t, lat, lon, alt_m;
 };
 
-std::string gunzip(const std::string& path) {
-  gzFile f = gzopen(path.c_str(), "rb");
-  EXPECT_NE(f, nullptr);
-  std::string out;
-  char buf[1 << 16];
-  int n;
-  while ((n = gzread(f, buf, sizeof buf)) > 0) out.append(buf, n);
-  gzclose(f);
-  return out;
-}
-
 // 2018-01-01T00:00:00Z; every row of the file is dated 180101.
 constexpr double kDay = 1514764800.0;
-
-double seconds(const std::string& hhmmss) {
-  const int v = std::stoi(hhmmss);
-  return kDay + (v / 10000) * 3600 + (v / 100 % 100) * 60 + v % 100;
-}
 
 // Distinct (flight_id, time) points from the segments' begin and end points.
 const std::vector<RawPoint>& raw_points() {
   static const std::vector<RawPoint> pts = [] {
-    std::istringstream in(gunzip(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz").string()));
     std::map<std::pair<std::string, double>, RawPoint> uniq;
-    std::string line;
-    while (std::getline(in, line)) {
-      std::istringstream ls(line);
-      std::string seg, adep, ades, type, hb, he, flb, fle, status, cs, db, de, latb, lonb, late, lone, fid;
-      ls >> seg >> adep >> ades >> type >> hb >> he >> flb >> fle >> status >> cs >> db >> de >> latb >>
-          lonb >> late >> lone >> fid;
-      if (fid.empty()) continue;
-      const double tb = seconds(hb), te = seconds(he);
-      uniq.try_emplace({fid, tb},
-                       RawPoint{fid, tb, std::stod(latb) / 60, std::stod(lonb) / 60, std::stod(flb) * 30.48});
-      uniq.try_emplace({fid, te},
-                       RawPoint{fid, te, std::stod(late) / 60, std::stod(lone) / 60, std::stod(fle) * 30.48});
+    for (const auto& s :
+         test::read_so6_segments(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz"), kDay)) {
+      uniq.try_emplace({s.flight_id, s.t_begin},
+                       RawPoint{s.flight_id, s.t_begin, s.lat_begin, s.lon_begin, s.alt_begin_m});
+      uniq.try_emplace({s.flight_id, s.t_end},
+                       RawPoint{s.flight_id, s.t_end, s.lat_end, s.lon_end, s.alt_end_m});
     }
     std::vector<RawPoint> v;
     for (auto& [k, p] : uniq) v.push_back(p);
