@@ -4,16 +4,13 @@
 #include <algorithm>
 #include <map>
 
+#include "trailscope/core/json_text.hpp"
 #include "trailscope/metrics/evaluate.hpp"
 
 namespace trailscope::metrics {
 namespace {
 
 /// JSON has no NaN; "no value" (no matches, no consecutive matches) is null.
-nlohmann::json number(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 const char* error_unit(const MetricsReport& r) {
   return r.kind == SimilarityKind::iou ? "1 - IoU" : "distance";
 }
@@ -60,10 +57,10 @@ nlohmann::json to_json(const MetricsReport& r, bool details) {
   if (r.kind == SimilarityKind::distance) j["d_max"] = r.d_max;
   j["ms"] = r.ms;
   nlohmann::json m = nlohmann::json::object();
-  for (const auto& [name, v] : trackeval_columns(r)) m[name] = number(v);
+  for (const auto& [name, v] : trackeval_columns(r)) m[name] = number_or_null(v);
   j["metrics"] = std::move(m);
-  j["extras"] = {{"mean_error", number(r.clear.mean_error)},
-                 {"jitter", number(r.clear.jitter)},
+  j["extras"] = {{"mean_error", number_or_null(r.clear.mean_error)},
+                 {"jitter", number_or_null(r.clear.jitter)},
                  {"lost_episodes", r.clear.lost_episodes},
                  {"error_unit", error_unit(r)}};
   if (!details) return j;
@@ -76,7 +73,7 @@ nlohmann::json to_json(const MetricsReport& r, bool details) {
                       {"fn", f.fn},
                       {"fp", f.fp},
                       {"idsw", f.idsw},
-                      {"mean_error", number(f.mean_error)}});
+                      {"mean_error", number_or_null(f.mean_error)}});
   auto& targets = j["per_target"] = nlohmann::json::array();
   for (const auto& t : r.clear.targets)
     targets.push_back({{"id", t.id},
@@ -89,8 +86,8 @@ nlohmann::json to_json(const MetricsReport& r, bool details) {
                        {"idsw", t.idsw},
                        {"frag", t.frag},
                        {"lost_episodes", t.lost_episodes},
-                       {"mean_error", number(t.mean_error)},
-                       {"jitter", number(t.jitter)},
+                       {"mean_error", number_or_null(t.mean_error)},
+                       {"jitter", number_or_null(t.jitter)},
                        {"jitter_pairs", t.jitter_pairs}});
   auto& pairs = j["identity_pairs"] = nlohmann::json::array();
   for (const auto& p : r.identity.pairs)

@@ -8,6 +8,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/json_text.hpp"
 
 namespace trailscope {
 
@@ -60,20 +61,16 @@ double value(float v) {
   return v == v ? static_cast<double>(v) : kNaN;
 }
 
-nlohmann::json number(double v) {
-  return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
-}
-
 nlohmann::json properties(const Position& p) {
   return {{"id", p.flight_id},
           {"icao24", p.icao24},
           {"callsign", p.callsign},
           {"lat", p.lat},
           {"lon", p.lon},
-          {"alt_m", number(p.alt_m)},
-          {"speed_ms", number(p.speed_ms)},
-          {"track_deg", number(p.track_deg)},
-          {"vrate_ms", number(p.vrate_ms)},
+          {"alt_m", number_or_null(p.alt_m)},
+          {"speed_ms", number_or_null(p.speed_ms)},
+          {"track_deg", number_or_null(p.track_deg)},
+          {"vrate_ms", number_or_null(p.vrate_ms)},
           {"on_ground", p.on_ground},
           {"exact", p.exact}};
 }

@@ -5,14 +5,9 @@
 #include "routes/run_rows.hpp"
 #include "trailscope/analysis/importance.hpp"
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/json_text.hpp"
 
 namespace trailscope::server::handlers {
-
-namespace {
-nlohmann::json number_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-}  // namespace
 
 Response importance(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {"metric", "sweep"});

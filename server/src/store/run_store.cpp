@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/json_text.hpp"
 #include "trailscope/tracker/run_counts.hpp"
 
 namespace trailscope::server {
@@ -13,10 +14,6 @@ namespace {
 /// Logs kept decoded after use (a long run's log is tens of MB in memory).
 constexpr std::size_t kLoadedRuns = 4;
 constexpr char kMagic[] = "TRAILSCOPE-RUN-1";
-
-nlohmann::json number_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
 }  // namespace
 
 nlohmann::json run_summary(const tracker::TrackerLog& log) {
