@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -355,7 +357,7 @@ TEST(AnimationChunk, SyntheticSelectionIsTheBruteForceOne) {
 
 // Edges: a flight present only at the chunk's end instant is not in it (half-open) but one that ends at
 // its start is; bracketing samples; a leg longer than the chunk; 180°; single-sample flights.
-TEST(AnimationChunk, ChunkBoundaries) {
+TrailSet boundaries_set() {
   TrailSetBuilder b;
   const auto add = [&](const char* icao, const char* cs, double t, float lat, float lon) {
     Sample s;
@@ -368,19 +370,24 @@ TEST(AnimationChunk, ChunkBoundaries) {
   add("000002", "ENDS", T - 120, 51, 5);  // ends exactly at the chunk start: present at T
   add("000002", "ENDS", T, 51, 6);
   add("000003", "SPANS", T - 500, 52, 5);  // one leg over the whole chunk: two bracketing samples
-  add("000003", "SPANS", T + S + 500, 52, 7);
+  add("000003", "SPANS", T + S + 500, 60, 7);
   add("000004", "INSIDE", T - 30, 53, 5);  // samples inside plus one each side (not -30 nor 320)
-  add("000004", "INSIDE", T - 10, 53, 5.1f);
-  add("000004", "INSIDE", T + 100, 53, 5.2f);
-  add("000004", "INSIDE", T + 299.75, 53, 5.3f);
-  add("000004", "INSIDE", T + 310, 53, 5.4f);
-  add("000004", "INSIDE", T + 320, 53, 5.5f);
+  add("000004", "INSIDE", T - 10, 53.5f, 5.1f);
+  add("000004", "INSIDE", T + 100, 55, 5.2f);
+  add("000004", "INSIDE", T + 299.75, 58, 5.3f);
+  add("000004", "INSIDE", T + 310, 58.5f, 5.4f);
+  add("000004", "INSIDE", T + 320, 59, 5.5f);
   add("000005", "DATELINE", T + 10, 10, 179.9f);  // crosses 180° eastwards inside the chunk
-  add("000005", "DATELINE", T + 70, 10, -179.9f);
+  add("000005", "DATELINE", T + 70, 12, -179.9f);
   add("000006", "BEFORE", T - 1000, 40, 0);  // entirely before
   add("000006", "BEFORE", T - 1, 40, 1);
   add("000007", "SINGLE", T + 150, 45, 10);  // one sample
-  const TrailSet set = b.build();
+  return b.build();
+}
+
+TEST(AnimationChunk, ChunkBoundaries) {
+  const double T = kDay + 600, S = 300;
+  const TrailSet set = boundaries_set();
   const AnimationChunk c = animation_chunk(set, T, S, Query{}, 1000);
   std::vector<std::string> names;
   for (const auto& f : c.flights)
@@ -410,6 +417,44 @@ TEST(AnimationChunk, ChunkBoundaries) {
         "the chunk holds 11 samples, more than 10; ask for a shorter duration or filter by callsign or "
         "icao24");
   }
+}
+
+// A small chunk and positions_at()'s answers inside it, for decoders in other languages (the browser's):
+// tests/golden/anim_boundaries.tsan is the chunk [T, T+300) of boundaries_set(), and
+// tests/golden/anim_boundaries.json holds {"chunk": {t, duration}, "instants": [{"t", "positions"}]} with
+// the positions' JSON (compute/.../trails/positions.hpp). Written by this test with
+// TRAILSCOPE_UPDATE_GOLDEN=1, compared byte for byte otherwise.
+TEST(AnimationChunk, GoldenForDecoders) {
+  const double T = kDay + 600, S = 300;
+  const TrailSet set = boundaries_set();
+  const std::string bytes =
+      encode_animation_chunk(set, animation_chunk(set, T, S, Query{}, 1000), default_animation_origin(set));
+  nlohmann::json instants = nlohmann::json::array();
+  for (double u : {0.0, 0.5, 10.0, 40.0, 69.75, 150.0, 299.75}) {
+    const Positions at = positions_at(set, T + u, Query{}, 1000);
+    instants.push_back({{"t", T + u}, {"positions", at.to_json()["positions"]}});
+  }
+  const std::string json =
+      nlohmann::json{{"chunk", {{"t", T}, {"duration", S}}}, {"instants", instants}}.dump(1) + "\n";
+  const auto dir = test::source_dir() / "tests" / "golden";
+  if (const char* u = std::getenv("TRAILSCOPE_UPDATE_GOLDEN"); u && std::string(u) == "1") {
+    std::ofstream(dir / "anim_boundaries.tsan", std::ios::binary) << bytes;
+    std::ofstream(dir / "anim_boundaries.json", std::ios::binary) << json;
+    std::printf("wrote %s/anim_boundaries.{tsan,json}\n", dir.c_str());
+    return;
+  }
+  const auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  ASSERT_TRUE(std::filesystem::exists(dir / "anim_boundaries.tsan"))
+      << "TRAILSCOPE_UPDATE_GOLDEN=1 writes it";
+  EXPECT_EQ(slurp(dir / "anim_boundaries.tsan"), bytes);
+  EXPECT_EQ(slurp(dir / "anim_boundaries.json"), json);
+  // And the golden positions are what the client rule gives from the golden chunk.
+  double worst = 0;
+  for (const auto& i : instants)
+    EXPECT_GT(expect_chunk_matches_positions(set, i["t"].get<double>(), S, &worst), 0u);
 }
 
 // --- the Europe SO6 day ----------------------------------------------------------------------------
