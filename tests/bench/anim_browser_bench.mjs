@@ -8,8 +8,9 @@
 // last frame of a run of at least --seconds and five frames), and the JS heap.
 //
 //   node tests/bench/anim_browser_bench.mjs [--sizes 5000,25000,100000] [--tail 120] [--seconds 8]
-//                                           [--modes empty,trailscope,trips] [--page DIR]
-// (mode "empty" is the map without a layer, once: the frame loop's ceiling in this browser)
+//                                           [--modes empty,trailscope,deckchunks,trips] [--page DIR]
+// (mode "empty" is the map without a layer, once: the frame loop's ceiling in this browser; "deckchunks"
+// draws TrailScope's chunks and CPU positions with deck.gl layers instead of the custom WebGL2 layer)
 // Prints one JSON line per run: {"bench":"anim_browser","mode","n","tail","samples","ttff_ms","frames",
 // "seconds","fps","heap_mb","drawn","browser","viewport"} or {..., "error": why}.
 // Packages: tests/bench/peers (npm ci there); the page is built with web's Vite (web/node_modules).
@@ -32,7 +33,7 @@ for (let i = 2; i < process.argv.length; i++) {
   if (a.startsWith('--')) args[a.slice(2)] = process.argv[i + 1] && !process.argv[i + 1].startsWith('--') ? process.argv[++i] : '1';
 }
 const sizes = (args.sizes ?? '5000,25000,100000').split(',').map(Number);
-const modes = (args.modes ?? 'trailscope,trips').split(',');
+const modes = (args.modes ?? 'empty,trailscope,deckchunks,trips').split(',');
 const tail = Number(args.tail ?? 120);
 const seconds = Number(args.seconds ?? 8);
 const pageDir = path.resolve(args.page ?? path.join(root, 'tests/bench/out/anim-page'));

@@ -337,7 +337,7 @@ if [ -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
     (cd tests/bench/peers && npm ci --no-audit --no-fund) 2>&1 | tail -n 3 | tee -a "$LOG" >&2
   fi
   run node tests/bench/anim_browser_bench.mjs --sizes "$ANIM_SIZES" --tail 120 --seconds "$ANIM_SECONDS" \
-    --modes empty,trailscope,trips --page "$OUT/anim-page"
+    --modes empty,trailscope,deckchunks,trips --page "$OUT/anim-page"
 else
   echo "chromium not installed (make deps-test): the browser animation benchmark is skipped" | tee -a "$LOG" >&2
 fi

@@ -3,6 +3,10 @@
 //   ?mode=trailscope&n=25000&tail=120   TrailScope's layer (web/src/flights/animation): TSAN chunks of
 //                                       300 s, encoded in the page from the trips before the clock starts
 //                                       (the server's part), served to the layer through its fetch option
+//   ?mode=deckchunks&n=25000&tail=120  the same chunks and CPU positions as TrailScope's layer, drawn with
+//                                       deck.gl layers instead of the custom layer: one TripsLayer per
+//                                       chunk (binary attributes, chunk-relative times) and a
+//                                       ScatterplotLayer of the aircraft (the alternative to the custom layer)
 //   ?mode=empty                         the map alone (the frame loop's ceiling)
 //   ?mode=trips&n=25000&tail=120        deck.gl's TripsLayer fed the usual way: every trip loaded at once
 //                                       (path + timestamps, relative seconds), currentTime and trailLength,
@@ -15,6 +19,11 @@ import 'maplibre-gl/dist/maplibre-gl.css';
 import { TrafficAnimation } from '../../../../web/src/flights/animation';
 import { MapboxOverlay } from '@deck.gl/mapbox';
 import { TripsLayer } from '@deck.gl/geo-layers';
+import { ScatterplotLayer } from '@deck.gl/layers';
+import { decodeTsan } from '../../../../web/src/flights/animation/tsan';
+import { frameAt } from '../../../../web/src/flights/animation/frame';
+import { compileFilter } from '../../../../web/src/flights/animation/filter';
+import { mercXToLon, mercYToLat } from '../../../../web/src/flights/animation/interp';
 
 maplibregl.setWorkerUrl(workerUrl);
 
@@ -168,6 +177,63 @@ window.benchRun = async ({ seconds = 6 } = {}) => {
       t += dt * SPEED;
       anim.setTime(t);
     };
+  } else if (MODE === 'deckchunks') {
+    const encoded = [];
+    for (let s = Math.floor((T0 - STEP) / CHUNK) * CHUNK; s < T0 + SPAN; s += CHUNK) encoded.push(encodeChunk(trips, s, CHUNK, 10, 48));
+    const t0 = performance.now();
+    // What the cache would hold: the decoded chunks (all of them here: the window is 25 minutes).
+    const chunks = encoded.map((b) => decodeTsan(b.slice(0)));
+    const filter = compileFilter({});
+    const tripsData = new Map();
+    const tripsOf = (c) => {
+      let d = tripsData.get(c);
+      if (!d) {
+        const path = new Float64Array(2 * c.nSamples);
+        for (let i = 0; i < c.nSamples; i++) {
+          path[2 * i] = mercXToLon(c.originX + c.x[i]);
+          path[2 * i + 1] = mercYToLat(c.originY + c.y[i]);
+        }
+        const colors = new Uint8Array(4 * c.nSamples);
+        for (let i = 0; i < c.nSamples; i++) colors.set([...altColor(c.alt[i]), 255], 4 * i);
+        d = { length: c.nFlights, startIndices: c.first, attributes: { getPath: { value: path, size: 2 }, getTimestamps: { value: c.t, size: 1 }, getColor: { value: colors, size: 4, normalized: true } } };
+        tripsData.set(c, d);
+      }
+      return d;
+    };
+    const layers = (tt) => {
+      const out = [];
+      for (const c of chunks) {
+        if (c.tStart > tt || c.tStart + c.duration <= tt - TAIL) continue;
+        out.push(new TripsLayer({ id: `trips-${c.tStart}`, data: tripsOf(c), _pathType: 'open', widthMinPixels: 2, fadeTrail: true, trailLength: TAIL, currentTime: tt - c.tStart, capRounded: false, jointRounded: false }));
+      }
+      const c = chunks.find((x) => x.tStart <= tt && tt < x.tStart + x.duration);
+      const fr = frameAt(c, tt, filter);
+      const pos = new Float64Array(2 * fr.n);
+      for (let i = 0; i < fr.n; i++) {
+        pos[2 * i] = fr.lon[i];
+        pos[2 * i + 1] = fr.lat[i];
+      }
+      drawn = fr.n;
+      out.push(new ScatterplotLayer({ id: 'aircraft', data: { length: fr.n, attributes: { getPosition: { value: pos, size: 2 } } }, getFillColor: [167, 139, 250], radiusMinPixels: 3, radiusMaxPixels: 3 }));
+      return out;
+    };
+    let resolveFirst;
+    first = new Promise((r) => (resolveFirst = r));
+    const overlay = new MapboxOverlay({
+      interleaved: true,
+      layers: layers(t),
+      onAfterRender: () => {
+        if (Number.isNaN(ttff)) {
+          ttff = performance.now() - t0;
+          resolveFirst();
+        }
+      },
+    });
+    map.addControl(overlay);
+    tick = (dt) => {
+      t += dt * SPEED;
+      overlay.setProps({ layers: layers(t) });
+    };
   } else if (MODE === 'empty') {
     // The map alone: what the browser's frame loop gives with no layer (a ceiling for both).
     first = Promise.resolve();
@@ -239,7 +305,6 @@ window.benchRun = async ({ seconds = 6 } = {}) => {
   });
   frames = stamps.length;
   const secondsRun = stamps.length >= 2 ? (stamps[stamps.length - 1] - stamps[0]) / 1000 : NaN;
-  const secondsRun = seconds;
   const heap = performance.memory ? performance.memory.usedJSHeapSize / 2 ** 20 : NaN;
   return {
     mode: MODE, n: N, tail: TAIL, samples: N * P, ttff_ms: Math.round(ttff), frames, seconds: Math.round(secondsRun * 100) / 100,
