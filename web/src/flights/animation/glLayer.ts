@@ -4,8 +4,9 @@
 // segment to the tail window and to the chunk's own [0, duration) (neighbouring chunks share the
 // bracketing segment; each draws its own part) and fades it by age. The aircraft are ONE draw of arrow
 // glyphs at positions computed on the CPU in float64 (frame.ts). Both draws pull their data from textures
-// by gl_VertexID (no instancing): software WebGL (SwiftShader) pays a fixed cost per instance that made
-// instanced tails 10x slower there, and vertex pulling costs nothing extra on a real GPU. Every time the GPU sees is chunk-relative float32
+// by gl_VertexID through a shared index buffer (4 vertices, 2 triangles per item; no instancing): software
+// WebGL (SwiftShader) pays a fixed cost per instance that made instanced tails 5-10x slower there, its
+// vertex cache only works for indexed draws, and vertex pulling costs nothing extra on a real GPU. Every time the GPU sees is chunk-relative float32
 // seconds (a few thousand at most), and every position is float32 metres relative to the chunk origin
 // through a matrix composed in float64, so there is no float32 epoch jitter at any time of day.
 
@@ -54,10 +55,10 @@ bool inBox(vec2 p) {
 
 vec4 seg(int i) { return texelFetch(u_segs, ivec2(i % ${DATA_TEX_W}, i / ${DATA_TEX_W}), 0); }
 
-const int CORNER[6] = int[6](0, 1, 2, 2, 1, 3);
 void main() {
-  int s = u_first + gl_VertexID / 6;
-  int vid = CORNER[gl_VertexID % 6];
+  // Indexed: vertex 4s + corner (0, 1 at the older end, 2, 3 at the newer; triangles 0 1 2, 2 1 3).
+  int s = u_first + gl_VertexID / 4;
+  int vid = gl_VertexID % 4;
   vec4 a_t4 = seg(3 * s), b4 = seg(3 * s + 1), c4 = seg(3 * s + 2);
   vec4 a_xy = vec4(a_t4.zw, b4.xy);
   vec4 a_val = vec4(b4.zw, c4.xy);
@@ -112,12 +113,12 @@ uniform int u_colorBy;
 uniform vec2 u_domain;
 uniform sampler2D u_ramp;
 out vec4 v_color;
-const vec2 SHAPE[6] = vec2[6](vec2(0.0, 1.0), vec2(-0.62, -0.72), vec2(0.0, -0.35),
-                              vec2(0.0, 1.0), vec2(0.0, -0.35), vec2(0.62, -0.72));
+// Nose, left wing tip, notch, right wing tip; indexed as triangles 0 1 2, 0 2 3.
+const vec2 SHAPE[4] = vec2[4](vec2(0.0, 1.0), vec2(-0.62, -0.72), vec2(0.0, -0.35), vec2(0.62, -0.72));
 void main() {
-  int i = gl_VertexID / 6;
+  int i = gl_VertexID / 4;
   vec4 g = texelFetch(u_glyphs, ivec2(i % ${DATA_TEX_W}, i / ${DATA_TEX_W}), 0);
-  vec2 l = SHAPE[gl_VertexID % 6];
+  vec2 l = SHAPE[gl_VertexID % 4];
   bool sel = g.z > 50.0;
   float h = sel ? g.z - 100.0 : g.z;
   vec2 a_pos = g.xy;
@@ -284,6 +285,9 @@ export class TrafficGl {
   private rampTex!: WebGLTexture;
   private rampFor: ColorBy | null = null;
   private vao!: WebGLVertexArrayObject;
+  /** Index buffers of quads (0 1 2, 2 1 3 per item) and glyphs (0 1 2, 0 2 3), grown on demand. */
+  private readonly quadIdx: { buf: WebGLBuffer | null; items: number } = { buf: null, items: 0 };
+  private readonly glyphIdx: { buf: WebGLBuffer | null; items: number } = { buf: null, items: 0 };
   private loc: Record<string, WebGLUniformLocation | null> = {};
   private gloc: Record<string, WebGLUniformLocation | null> = {};
   tailWidth = 2;
@@ -369,6 +373,23 @@ export class TrafficGl {
     }
   }
 
+  /** Binds (in the bound VAO) an index buffer covering `items` items of `pattern`. */
+  private bindIndices(ib: { buf: WebGLBuffer | null; items: number }, pattern: readonly number[], items: number) {
+    const gl = this.gl;
+    if (!ib.buf || ib.items < items) {
+      if (ib.buf) gl.deleteBuffer(ib.buf);
+      const n = Math.max(1024, Math.ceil(items * 1.25));
+      const idx = new Uint32Array(6 * n);
+      for (let i = 0; i < n; i++) for (let k = 0; k < 6; k++) idx[6 * i + k] = 4 * i + pattern[k]!;
+      ib.buf = gl.createBuffer()!;
+      ib.items = n;
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib.buf);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
+    } else {
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib.buf);
+    }
+  }
+
   private static domain(colorBy: ColorBy): [number, number] {
     if (colorBy === 'callsign') return [0, PALETTE.length];
     const s = RAMPS[colorBy].stops;
@@ -389,7 +410,7 @@ export class TrafficGl {
     const selKey = `${p.filterKey}|${p.selected}`;
     this.lastSegments = 0;
 
-    // ---- tails: one draw per chunk overlapping [t - tail, t], 6 vertices per segment
+    // ---- tails: one draw per chunk overlapping [t - tail, t], 4 vertices per segment
     if (p.tail > 0) {
       gl.useProgram(this.tailProg);
       const L = this.loc;
@@ -430,12 +451,13 @@ export class TrafficGl {
         gl.bindTexture(gl.TEXTURE_2D, g.flightTex);
         gl.activeTexture(gl.TEXTURE2);
         gl.bindTexture(gl.TEXTURE_2D, g.segTex);
-        gl.drawArrays(gl.TRIANGLES, 0, 6 * (hi - lo));
+        this.bindIndices(this.quadIdx, [0, 1, 2, 2, 1, 3], hi - lo);
+        gl.drawElements(gl.TRIANGLES, 6 * (hi - lo), gl.UNSIGNED_INT, 0);
         this.lastSegments += hi - lo;
       }
     }
 
-    // ---- aircraft: one draw of glyphs, 6 vertices each
+    // ---- aircraft: one draw of glyphs, 4 vertices each
     const fr = p.frame;
     if (fr && fr.n > 0 && p.headings) {
       const c = fr.chunk;
@@ -487,7 +509,8 @@ export class TrafficGl {
       gl.uniform2f(G.u_domain!, dom[0], dom[1]);
       gl.uniform1i(G.u_ramp!, 1);
       gl.uniform1i(G.u_glyphs!, 2);
-      gl.drawArrays(gl.TRIANGLES, 0, 6 * fr.n);
+      this.bindIndices(this.glyphIdx, [0, 1, 2, 0, 2, 3], fr.n);
+      gl.drawElements(gl.TRIANGLES, 6 * fr.n, gl.UNSIGNED_INT, 0);
     }
     gl.activeTexture(gl.TEXTURE0);
     gl.bindVertexArray(null);
@@ -497,6 +520,7 @@ export class TrafficGl {
     this.retain([]);
     const gl = this.gl;
     if (this.glyphTex) gl.deleteTexture(this.glyphTex);
+    for (const ib of [this.quadIdx, this.glyphIdx]) if (ib.buf) gl.deleteBuffer(ib.buf);
     gl.deleteTexture(this.rampTex);
     gl.deleteVertexArray(this.vao);
     gl.deleteProgram(this.tailProg);
