@@ -81,7 +81,7 @@ for (const n of sizes) {
       await page.goto(`${base}/index.html?mode=${mode}&n=${n}&tail=${tail}`);
       await page.waitForFunction(() => window.benchReady === true);
       const r = await page.evaluate((s) => window.benchRun({ seconds: s }), seconds);
-      Object.assign(line, r, { fps: Math.round(r.fps * 100) / 100 });
+      Object.assign(line, r, { fps: Number(r.fps.toPrecision(3)) });
       if (errors.length) line.page_errors = errors.slice(0, 3);
       // A screenshot is a courtesy: a page too slow to draw one keeps its numbers.
       await page.screenshot({ path: path.join(path.dirname(pageDir), `anim_${mode}_${n}.png`), timeout: 60_000 }).catch(() => {});

@@ -824,7 +824,9 @@ int main(int argc, char** argv) {
         const json* o = run("trailscope", n);
         const json* d = run("trips", n);
         const double fo = dbl(o, "fps"), fd = dbl(d, "fps");
-        const auto fps = [](double v) { return std::isfinite(v) ? num(v, 2) : std::string("–"); };
+        const auto fps = [](double v) {  // three significant digits: software WebGL can be far below 1
+          return !std::isfinite(v) ? std::string("–") : num(v, v >= 10 ? 1 : v >= 1 ? 2 : v >= 0.1 ? 3 : 4);
+        };
         const auto err = [&](const std::string& mode) {
           for (const json* r : find("anim_browser", {{"mode", mode}}))
             if (r->value("n", 0L) == n && r->contains("error")) return " (failed: " + str(r, "error") + ")";
@@ -843,7 +845,7 @@ int main(int argc, char** argv) {
                                  " aircraft, 120 s tails",
                              "≥ 2× TripsLayer",
                              fo > 0 && fd > 0
-                                 ? num(fo / fd, 2) + "× (" + num(fo, 2) + " vs " + num(fd, 2) + ")"
+                                 ? num(fo / fd, 1) + "× (" + fps(fo) + " vs " + fps(fd) + " frames/s)"
                                  : std::string("–"),
                              fo > 0 && fd > 0 && fo >= 2 * fd});
       }
