@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
       json rec = {
           {"bench", "anim_throughput"},
           {"label", label},
-          {"duration_s", duration},
+          {"duration_s", static_cast<long long>(duration)},
           {"chunks", ms.size()},
           {"seconds", std::round(s * 1000) / 1000},
           {"chunks_per_s", std::round(static_cast<double>(ms.size()) / s * 10) / 10},
@@ -194,7 +194,7 @@ int main(int argc, char** argv) {
                   {"label", label},
                   {"mode", warm ? "warm" : "cold"},
                   {"via", "route"},
-                  {"duration_s", duration},
+                  {"duration_s", static_cast<long long>(duration)},
                   {"mean_mb", std::round(static_cast<double>(bytes) / 1e6 / scrubs * 1000) / 1000}};
       Stats::of(ms).put(rec, "ms_");
       emit(rec);
@@ -232,7 +232,7 @@ int main(int argc, char** argv) {
                     {"label", label},
                     {"mode", warm ? "warm" : "cold"},
                     {"via", "http"},
-                    {"duration_s", duration},
+                    {"duration_s", static_cast<long long>(duration)},
                     {"mean_mb", std::round(static_cast<double>(bytes) / 1e6 / scrubs * 1000) / 1000}};
         Stats::of(ms).put(rec, "ms_");
         emit(rec);

@@ -802,7 +802,8 @@ int main(int argc, char** argv) {
              << " | " << str(t, "mean_chunk_mb") << " MB | " << ms(t, "chunk_ms_p50") << " / "
              << ms(t, "chunk_ms_p95") << " ms |\n";
       }
-      body << "\n| day | via | mode | scrub p50 | p95 | MB per scrub | runs |\n|---|---|---|---|---|---|---|\n";
+      body << "\n| day | via | mode | scrub p50 | p95 | MB per scrub | runs "
+              "|\n|---|---|---|---|---|---|---|\n";
       for (const json* r : find("anim_scrub")) {
         body << "| " << str(r, "label") << " | " << str(r, "via") << " | " << str(r, "mode") << " | "
              << ms(r, "ms_p50") << " ms | " << ms(r, "ms_p95") << " ms | " << str(r, "mean_mb") << " | "
@@ -811,8 +812,8 @@ int main(int argc, char** argv) {
         const bool warm = str(r, "mode") == "warm";
         const double limit = warm ? 100 : 300;
         targets.push_back({"9", "scrub " + str(r, "mode") + ", " + str(r, "label") + " (server)",
-                           warm ? "< 100 ms" : "< 300 ms", ms(r, "ms_p50") + " ms (p95 " + ms(r, "ms_p95") + ")",
-                           dbl(r, "ms_p95") < limit});
+                           warm ? "< 100 ms" : "< 300 ms",
+                           ms(r, "ms_p50") + " ms (p95 " + ms(r, "ms_p95") + ")", dbl(r, "ms_p95") < limit});
       }
       body << "\n";
     }
