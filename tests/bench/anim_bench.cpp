@@ -158,9 +158,10 @@ int main(int argc, char** argv) {
         ms.push_back(ms_since(c0));
         bytes += b.size(), samples += c.samples, max_bytes = std::max(max_bytes, b.size());
       }
-      const double s = ms_since(t0) / 1000;
+      const double s = ms_since(t0) / 1000, cpu_s = (process_cpu_ms() - cpu0) / 1000;
       json rec = {
           {"bench", "anim_throughput"},
+          {"cpu_seconds", std::round(cpu_s * 1000) / 1000},
           {"label", label},
           {"duration_s", static_cast<long long>(duration)},
           {"chunks", ms.size()},
