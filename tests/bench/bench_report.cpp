@@ -782,6 +782,45 @@ int main(int argc, char** argv) {
       body << "\n";
     }
 
+    // ---- 9. animation chunks ---------------------------------------------------------------------
+    if (!find("anim_data").empty()) {
+      body << "## 9. Animation chunks\n\n"
+              "`anim_bench`: `GET /api/v1/datasets/{id}/animation` (TSAN, `proto/animation_chunks.md`). "
+              "**Throughput**: every chunk of the 24 h day, selected and encoded one after another (a cache "
+              "miss's work). **Scrub**: to a random instant of the day, the chunk holding it plus the one "
+              "before (trail tails), asked one after the other; *route* = the server's router in process "
+              "(parsing, chunk cache, selection, encoding; no socket), *http* = a running server over "
+              "loopback. Cold: neither chunk in the server's cache; warm: both asked just before. CPU: the "
+              "process's CPU time (all threads, TBB's idle spinning included) of a scrub, which other work "
+              "on the machine does not stretch. "
+              "Target (server share of a scrub): warm < 100 ms, cold < 300 ms.\n\n"
+              "| day | flights | points | peak aircraft at once | mean at once | chunk | chunks/s | MB/s | "
+              "mean chunk | chunk p50 / p95 |\n|---|---|---|---|---|---|---|---|---|---|\n";
+      for (const json* d : find("anim_data")) {
+        const json* t = find1("anim_throughput", {{"label", str(d, "label")}});
+        body << "| " << str(d, "label") << " | " << grouped(d, "flights") << " | " << grouped(d, "points")
+             << " | " << grouped(d, "peak_concurrent") << " | " << grouped(d, "mean_concurrent") << " | "
+             << str(t, "duration_s") << " s | " << str(t, "chunks_per_s") << " | " << str(t, "mb_per_s")
+             << " | " << str(t, "mean_chunk_mb") << " MB | " << ms(t, "chunk_ms_p50") << " / "
+             << ms(t, "chunk_ms_p95") << " ms |\n";
+      }
+      body << "\n| day | via | mode | scrub p50 | p95 | CPU p50 / p95 (in process) | MB per scrub | runs "
+              "|\n|---|---|---|---|---|---|---|---|\n";
+      for (const json* r : find("anim_scrub")) {
+        body << "| " << str(r, "label") << " | " << str(r, "via") << " | " << str(r, "mode") << " | "
+             << ms(r, "ms_p50") << " ms | " << ms(r, "ms_p95") << " ms | "
+             << (r->contains("cpu_ms_p50") ? ms(r, "cpu_ms_p50") + " / " + ms(r, "cpu_ms_p95") + " ms" : "–")
+             << " | " << str(r, "mean_mb") << " | " << str(r, "ms_n") << " |\n";
+        if (str(r, "via") != "route") continue;
+        const bool warm = str(r, "mode") == "warm";
+        const double limit = warm ? 100 : 300;
+        targets.push_back({"9", "scrub " + str(r, "mode") + ", " + str(r, "label") + " (server)",
+                           warm ? "< 100 ms" : "< 300 ms",
+                           ms(r, "ms_p50") + " ms (p95 " + ms(r, "ms_p95") + ")", dbl(r, "ms_p95") < limit});
+      }
+      body << "\n";
+    }
+
     // ---- 10. animation in the browser (anim_browser_bench.mjs) ---------------------------------------
     if (!find("anim_browser").empty()) {
       const auto run = [](const std::string& mode, long n) -> const json* {

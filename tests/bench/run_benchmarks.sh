@@ -288,6 +288,17 @@ TILE=/tiles/europe/density/4/8/5.png
 run "$B/http_bench" --base "$BASE" --label tile_europe_4_8_5_cold --path "$TILE" --vary t1=1600000000 --reps "$TILE_REPS"
 run "$B/http_bench" --base "$BASE" --label tile_europe_4_8_5_warm --path "$TILE" --reps "$SUM_REPS"
 
+# Animation chunks: throughput and scrubs on the Europe day (in process and over HTTP against this server,
+# which holds the same day as "europe") and on a generated day of ~25,000 aircraft at once (in process).
+# BENCH_ANIM_FLIGHTS (default 216,000: a peak of ~25,000 at once) flights sampled every 30-60 s (~31 M points).
+say "6b. animation chunks"
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target anim_bench 2>&1 | tail -1 | tee -a "$LOG" >&2
+ANIM_FLIGHTS=${BENCH_ANIM_FLIGHTS:-216000} ANIM_SCRUBS=60
+[ "${BENCH_QUICK:-0}" = 1 ] && ANIM_FLIGHTS=${BENCH_ANIM_FLIGHTS:-25000} ANIM_SCRUBS=10
+run "$B/anim_bench" --so6 "$SO6" --label europe_so6_day --scrubs "$ANIM_SCRUBS" --base "$BASE" --dataset europe
+run "$B/anim_bench" --demo-flights "$ANIM_FLIGHTS" --sample-s 30,60 --label demo_${ANIM_FLIGHTS}_flights \
+  --scrubs "$ANIM_SCRUBS"
+
 # wrk: a tile already in the server's cache (the request above put it there).
 wrk_json() {  # label, then wrk's output on stdin → one JSON line
   awk -v label="$1" '

@@ -4,8 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_for.h>
 
 #include "trailscope/core/error.hpp"
 
@@ -56,27 +55,27 @@ AnimationChunk animation_chunk(const TrailSet& set, double t_start, double durat
     return true;
   };
 
-  struct Acc {
+  // Fixed blocks of flights in parallel, each into its own list, joined in block order: flights stay in
+  // id order and nothing is copied but the final join (the functional parallel_reduce would copy a
+  // block's list into every later body call).
+  constexpr std::uint32_t kBlock = 2048;
+  const auto n = static_cast<std::uint32_t>(flights.size());
+  std::vector<std::vector<ChunkFlight>> blocks((n + kBlock - 1) / kBlock);
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t bi) {
+    const std::uint32_t lo = static_cast<std::uint32_t>(bi) * kBlock, hi = std::min(n, lo + kBlock);
+    ChunkFlight c;
+    for (std::uint32_t fi = lo; fi != hi; ++fi)
+      if (range(fi, c)) blocks[bi].push_back(c);
+  });
+  struct {
     std::vector<ChunkFlight> flights;
     std::size_t samples = 0;
-  };
-  // Blocks of flights in parallel; the join is left to right, so flights stay in id order.
-  Acc acc = tbb::parallel_reduce(
-      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(flights.size()), 512), Acc(),
-      [&](const tbb::blocked_range<std::uint32_t>& r, Acc a) {
-        ChunkFlight c;
-        for (std::uint32_t fi = r.begin(); fi != r.end(); ++fi)
-          if (range(fi, c)) {
-            a.flights.push_back(c);
-            a.samples += c.size();
-          }
-        return a;
-      },
-      [](Acc a, const Acc& b) {
-        a.flights.insert(a.flights.end(), b.flights.begin(), b.flights.end());
-        a.samples += b.samples;
-        return a;
-      });
+  } acc;
+  std::size_t count = 0;
+  for (const auto& b : blocks) count += b.size();
+  acc.flights.reserve(count);
+  for (const auto& b : blocks)
+    for (const ChunkFlight& c : b) acc.flights.push_back(c), acc.samples += c.size();
   if (acc.samples > max_samples)
     throw Error(Error::Kind::payload_too_large, "duration",
                 "the chunk holds " + std::to_string(acc.samples) + " samples, more than " +

@@ -5,6 +5,11 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <numbers>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/json_text.hpp"
@@ -116,31 +121,45 @@ std::string encode_animation_chunk(const TrailSet& set, const AnimationChunk& ch
   char* const cols = buf.data() + off_cols;
   const auto set_f32 = [&](int k, std::size_t i, float v) { std::memcpy(cols + k * col + 4 * i, &v, 4); };
   char* const ground = buf.data() + off_ground;
-  std::size_t s = 0, str = 0;
+  // Where each flight's samples and callsign go (prefix sums), then the flights in parallel: each writes
+  // its own disjoint ranges, so the bytes do not depend on the scheduling.
+  std::vector<std::size_t> first(F + 1, 0), str_at(F + 1, 0);
   for (std::size_t i = 0; i < F; ++i) {
-    const ChunkFlight& c = chunk.flights[i];
-    const Flight& f = flights[c.flight_id];
-    const std::size_t rec = off_flights + kFlightBytes * i;
-    put<std::uint32_t>(buf, rec, c.flight_id);
-    put<std::uint32_t>(buf, rec + 4, static_cast<std::uint32_t>(s));
-    put<std::uint32_t>(buf, rec + 8, c.size());
-    put<std::uint32_t>(buf, rec + 12, icao24_number(f.icao24));
-    put<std::uint32_t>(buf, rec + 16, static_cast<std::uint32_t>(str));
-    put<std::uint32_t>(buf, rec + 20, static_cast<std::uint32_t>(f.callsign.size()));
-    std::memcpy(buf.data() + off_strings + str, f.callsign.data(), f.callsign.size());
-    str += f.callsign.size();
-    for (std::uint32_t p = c.begin; p != c.end; ++p, ++s) {
-      // Differences in double, rounded to float once: the rounding is the only error.
-      set_f32(0, s, static_cast<float>(pts.t[p] - chunk.t_start));
-      set_f32(1, s, static_cast<float>(geo::lon_to_meters_x(pts.lon[p]) - ox));
-      set_f32(2, s, static_cast<float>(geo::lat_to_meters_y(pts.lat[p]) - oy));
-      set_f32(3, s, pts.alt[p]);
-      set_f32(4, s, pts.speed[p]);
-      set_f32(5, s, pts.track[p]);
-      set_f32(6, s, pts.vrate[p]);
-      ground[s] = pts.on_ground[p] ? 1 : 0;
-    }
+    first[i + 1] = first[i] + chunk.flights[i].size();
+    str_at[i + 1] = str_at[i] + flights[chunk.flights[i].flight_id].callsign.size();
   }
+  // y from the set's fixed-point Web Mercator y (trail_set.hpp: floor(2^32·unit y), clamped like
+  // lat_to_meters_y), taken at the middle of its unit: within half a unit (4.7 mm) of
+  // lat_to_meters_y(lat), without a tan and an asinh per sample.
+  const auto& merc_y = set.merc_y();
+  constexpr double kHalfWorldUnits = 2147483648.0;  // 2^31: the equator
+  const double kMetresPerUnit = 2 * std::numbers::pi * geo::kEarthRadiusMeters / 4294967296.0;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, F, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const ChunkFlight& c = chunk.flights[i];
+      const Flight& f = flights[c.flight_id];
+      const std::size_t rec = off_flights + kFlightBytes * i;
+      put<std::uint32_t>(buf, rec, c.flight_id);
+      put<std::uint32_t>(buf, rec + 4, static_cast<std::uint32_t>(first[i]));
+      put<std::uint32_t>(buf, rec + 8, c.size());
+      put<std::uint32_t>(buf, rec + 12, icao24_number(f.icao24));
+      put<std::uint32_t>(buf, rec + 16, static_cast<std::uint32_t>(str_at[i]));
+      put<std::uint32_t>(buf, rec + 20, static_cast<std::uint32_t>(f.callsign.size()));
+      std::memcpy(buf.data() + off_strings + str_at[i], f.callsign.data(), f.callsign.size());
+      std::size_t s = first[i];
+      for (std::uint32_t p = c.begin; p != c.end; ++p, ++s) {
+        // Differences in double, rounded to float once: the rounding is the only error.
+        set_f32(0, s, static_cast<float>(pts.t[p] - chunk.t_start));
+        set_f32(1, s, static_cast<float>(geo::lon_to_meters_x(pts.lon[p]) - ox));
+        set_f32(2, s, static_cast<float>((kHalfWorldUnits - 0.5 - merc_y[p]) * kMetresPerUnit - oy));
+        set_f32(3, s, pts.alt[p]);
+        set_f32(4, s, pts.speed[p]);
+        set_f32(5, s, pts.track[p]);
+        set_f32(6, s, pts.vrate[p]);
+        ground[s] = pts.on_ground[p] ? 1 : 0;
+      }
+    }
+  });
   return buf;
 }
 
