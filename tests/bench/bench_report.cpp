@@ -866,17 +866,21 @@ int main(int argc, char** argv) {
         const auto fps = [](double v) {  // three significant digits: software WebGL can be far below 1
           return !std::isfinite(v) ? std::string("–") : num(v, v >= 10 ? 1 : v >= 1 ? 2 : v >= 0.1 ? 3 : 4);
         };
+        // A layer that drew fewer than two frames in the run's time limit has an upper bound only.
+        const auto fpsr = [&](const json* r) {
+          return (r && str(r, "fps_bound") == "upper" ? "≤ " : "") + fps(dbl(r, "fps"));
+        };
         const auto err = [&](const std::string& mode) {
           for (const json* r : find("anim_browser", {{"mode", mode}}))
             if (r->value("n", 0L) == n && r->contains("error")) return " (failed: " + str(r, "error") + ")";
           return std::string();
         };
         const json* k = run("deckchunks", n);
-        body << "| " << grouped(double(n)) << " | " << grouped(o ? o : d, "samples") << " | " << fps(fo)
-             << err("trailscope") << " | " << fps(dbl(k, "fps")) << err("deckchunks") << " | " << fps(fd)
-             << err("trips") << " | " << (fo > 0 && fd > 0 ? num(fo / fd, 2) + "×" : std::string("–"))
-             << " | " << (o ? ms(o, "ttff_ms") + " ms" : "–") << " | " << (d ? ms(d, "ttff_ms") + " ms" : "–")
-             << " | " << (o ? num(dbl(o, "heap_mb"), 0) + " MiB" : "–") << " | "
+        body << "| " << grouped(double(n)) << " | " << grouped(o ? o : d, "samples") << " | " << fpsr(o)
+             << err("trailscope") << " | " << fpsr(k) << err("deckchunks") << " | " << fpsr(d) << err("trips")
+             << " | " << (fo > 0 && fd > 0 ? num(fo / fd, 2) + "×" : std::string("–")) << " | "
+             << (o ? ms(o, "ttff_ms") + " ms" : "–") << " | " << (d ? ms(d, "ttff_ms") + " ms" : "–") << " | "
+             << (o ? num(dbl(o, "heap_mb"), 0) + " MiB" : "–") << " | "
              << (d ? num(dbl(d, "heap_mb"), 0) + " MiB" : "–") << " |\n";
         if (n >= 25000)
           targets.push_back({"animation",
