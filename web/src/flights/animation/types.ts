@@ -59,6 +59,7 @@ export interface AnimationStats {
   pending: number;
 }
 
+
 export interface TrafficAnimationOptions {
   /** Chunk length in seconds (the route's duration; aligned chunk starts). Default 300. */
   chunkSeconds?: number;
@@ -73,6 +74,8 @@ export interface TrafficAnimationOptions {
   lookaheadChunks?: number;
   /** Map layer id to insert the layer before (default: on top). */
   beforeId?: string;
+  /** The dataset's [t_min, t_max] (Unix seconds): chunks wholly outside are never requested. */
+  span?: [number, number] | null;
 }
 
 /**
