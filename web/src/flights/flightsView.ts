@@ -154,6 +154,7 @@ export class FlightsView {
       // The URL follows the clock when it rests (not on every frame of playback).
       if (!c.playing || c.speed !== prev.speed) this.writeHash();
     });
+    this.map.setDimmed(this.playback.isOn());
     const playback = this.playback;
     (window as unknown as { trailscope: unknown }).trailscope = {
       map: this.map.map,
@@ -172,6 +173,7 @@ export class FlightsView {
     });
 
     this.brush.setWindow(spanOf(this.store.get()));
+    this.brush.setCursor(this.playback.isOn() ? this.clock.get().t : null);
     void this.loadHealth();
     void this.loadDatasets(extra.datasetId);
     const socket = new JobSocket({
