@@ -18,7 +18,7 @@ import { SummaryView } from './summary';
 import { TimeBrush } from './timeBrush';
 import { Clock, parsePlayback, writePlayback } from './clock';
 import { COLOR_BYS, PlaybackView } from './playback';
-import { TrafficAnimation } from './animation/trafficAnimation';
+import { TrafficAnimation } from './animation';
 import type { ColorBy } from './animation/types';
 import { dashboardOf } from '../route';
 
@@ -229,7 +229,7 @@ export class FlightsView {
     }
     this.summaryKey = this.histKey = this.flightsKey = '';
     this.syncClockSpan();
-    this.playback.setDataset(s.datasetId);
+    this.playback.setDataset(s.datasetId, d ? [d.t_min, d.t_max] : null);
     if (this.initialView) {
       this.map.map.jumpTo({ center: [this.initialView.lng, this.initialView.lat], zoom: this.initialView.zoom });
       this.initialView = null;

@@ -70,6 +70,8 @@ export class PlaybackView {
   private anim: TrafficAnimationApi | null = null;
   private animDataset: string | null = null;
   private datasetId: string | null = null;
+  private datasetSpan: [number, number] | null = null;
+  private legendAt = 0;
   private on = false;
   private tail: number;
   private colorBy: ColorBy;
@@ -237,6 +239,14 @@ export class PlaybackView {
     map.on('dragstart', () => this.release());
     // Capture: in playback the arrows step the clock even when the time histogram has focus.
     window.addEventListener('keydown', (e) => this.onKey(e), { capture: true });
+    // A focused button would take Space's key-up as a click (a second play/pause).
+    window.addEventListener(
+      'keyup',
+      (e) => {
+        if (e.key === ' ' && this.on && this.anim && !ownsKeys(e.target)) e.preventDefault();
+      },
+      { capture: true },
+    );
 
     this.on = initial.on;
     this.toggle.checked = this.on;
@@ -273,10 +283,11 @@ export class PlaybackView {
     this.events.onChange();
   }
 
-  /** The data set whose traffic plays (null: none). A new data set starts a new layer. */
-  setDataset(id: string | null): void {
+  /** The data set whose traffic plays (null: none) and its [t_min, t_max]. A new data set starts a new layer. */
+  setDataset(id: string | null, span: [number, number] | null): void {
     if (id === this.datasetId) return;
     this.datasetId = id;
+    this.datasetSpan = span;
     this.release();
     if (this.bundlesOn) this.restartBundles();
     this.syncOn();
@@ -322,7 +333,7 @@ export class PlaybackView {
       this.stats = null;
       this.tooltip.hidden = true;
       if (want) {
-        const a = this.createAnimation(this.map, want, { tailSeconds: this.tail, colorBy: this.colorBy });
+        const a = this.createAnimation(this.map, want, { tailSeconds: this.tail, colorBy: this.colorBy, span: this.datasetSpan });
         this.anim = a;
         a.setFilter(this.filter);
         a.setSelected(this.selected);
@@ -330,6 +341,8 @@ export class PlaybackView {
           if (this.anim !== a) return;
           this.stats = s;
           this.renderStats();
+          // The callsign legend lists the prefixes on screen: refresh it about once a second.
+          if (this.colorBy === 'callsign' && performance.now() - this.legendAt > 1000) this.renderLegend();
         });
         a.onError((err) => {
           if (this.anim !== a) return;
@@ -385,6 +398,7 @@ export class PlaybackView {
       mount(this.legend);
       return;
     }
+    this.legendAt = performance.now();
     const l = this.anim.legend();
     const ticks = legendTicks(l);
     this.legend.dataset.colorBy = l.colorBy;
