@@ -530,7 +530,8 @@ export class PlaybackView {
       case 'release':
         // Esc: first stop following, then (a second Esc) let the dashboard deselect.
         if (!this.release()) {
-          if (this.selected === null) return;
+          // On the time histogram Esc clears its window (timeBrush.ts), as without playback.
+          if (this.selected === null || (e.target instanceof Element && e.target.closest('.brush-plot'))) return;
           this.events.onDeselect();
         }
         break;
