@@ -152,8 +152,12 @@ await test('play: the clock runs and the aircraft move', async () => {
     return { t, pos: window.trailscope.animation.positionsAt(t) };
   });
   const a = await sample();
+  const shotA = await mapShot();
   await page.waitForTimeout(1500);
   const b = await sample();
+  const shotB = await mapShot('animation-playing.png');
+  const changed = await pixelsDiffering(shotA, shotB);
+  assert(changed > 200, `the map's pixels change while playing (${changed} pixels)`);
   assert(b.t > a.t + 10, `the clock advanced at 100× (${a.t} → ${b.t})`);
   const before = new Map(a.pos.map((p) => [p.flightId, p]));
   let common = 0;
@@ -166,7 +170,7 @@ await test('play: the clock runs and the aircraft move', async () => {
   }
   assert(common > 50, `the same flights are drawn at both instants (${common})`);
   assert(moved > common * 0.8, `aircraft moved: ${moved} of ${common} by more than 100 m in ${(b.t - a.t).toFixed(1)} s`);
-  await mapShot('animation-playing.png');
+  console.log(`        ${moved} of ${common} aircraft moved over ${(b.t - a.t).toFixed(1)} s of data; ${changed} pixels changed`);
 });
 
 await test('pause with Space: the clock stops', async () => {
@@ -175,7 +179,15 @@ await test('pause with Space: the clock stops', async () => {
   const t = await playbackT();
   await page.waitForTimeout(400);
   assertEqual(await playbackT(), t, 'the instant stays while paused');
-  assert(new URL(page.url()).hash.includes(`at=${t}`), `the URL holds the paused instant: ${page.url()}`);
+  await page.waitForFunction((tt) => window.location.hash.includes(`at=${tt}`), t);
+  // + and − walk the speed steps.
+  await page.keyboard.press('+');
+  assertEqual(await page.getAttribute(sel('playback'), 'data-speed'), '200', 'one step faster than 100×');
+  await page.keyboard.press('-');
+  await page.keyboard.press('-');
+  assertEqual(await page.getAttribute(sel('playback'), 'data-speed'), '50', 'two steps slower');
+  await page.keyboard.press('+');
+  await page.waitForFunction(() => window.location.hash.includes('speed=100'));
 });
 
 await test('scrub the cursor on the histogram; the map changes with the instant', async () => {
