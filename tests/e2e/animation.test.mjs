@@ -203,6 +203,17 @@ await test('scrub the cursor on the histogram; the map changes with the instant'
   const t = Number(await playbackT());
   const { t0, t1 } = state.window;
   assert(t > t0 && t < t1, `the cursor scrubbed inside the window (${t})`);
+  // A click elsewhere in the window jumps there (the brush's own pixel-to-time mapping).
+  const xMid = (await page.locator(`${sel('time-brush')} .selection`).boundingBox()).x + 5;
+  await page.mouse.click(xMid, y);
+  const jumped = Number(await playbackT());
+  assert(jumped >= t0 && jumped < t0 + (t1 - t0) * 0.2 && jumped !== t, `a click jumps the cursor (${jumped})`);
+  await page.mouse.move(xMid, y);
+  await page.mouse.down();
+  await page.mouse.move(x0 + 15, y, { steps: 5 });
+  await page.mouse.move(x0 + 30, y, { steps: 5 });
+  await page.mouse.up();
+  assertEqual(Number(await playbackT()), t, 'dragging the cursor back scrubs to the same pixel time');
   assertEqual(Number(await page.getAttribute(sel('time-brush'), 'data-t0')), t0, 'scrubbing leaves the window alone');
   state.scrubbed = t;
   await drawnAt(t);
