@@ -116,6 +116,11 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxProjectionIterations", double(L::kMaxProjectionIterations)},
       {"kMaxQualitySample", double(L::kMaxQualitySample)},
       {"kMaxQualityK", double(L::kMaxQualityK)},
+      {"kMinAnimationChunkSeconds", double(L::kMinAnimationChunkSeconds)},
+      {"kMaxAnimationChunkSeconds", double(L::kMaxAnimationChunkSeconds)},
+      {"kDefaultAnimationChunkSeconds", double(L::kDefaultAnimationChunkSeconds)},
+      {"kMaxAnimationChunkSamples", double(L::kMaxAnimationChunkSamples)},
+      {"kAnimationCacheBytes", double(L::kAnimationCacheBytes)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";
