@@ -72,7 +72,9 @@ BundleStreamSession::BundleStreamSession(beast::tcp_stream&& stream, BundleStrea
     : ws_(std::move(stream)),
       timer_(ws_.get_executor()),
       owner_(owner),
-      dataset_(std::move(dataset)),
+      dataset_(dataset),
+      worker_(std::make_shared<BundleStreamWorker>()),
+      poll_timer_(ws_.get_executor()),
       counted_(counted),
       out_(ws_, {.written =
                      [this](const WsWriteQueue::Message& m) {
@@ -86,7 +88,9 @@ BundleStreamSession::BundleStreamSession(beast::tcp_stream&& stream, BundleStrea
                          ws_.async_close(websocket::close_code::policy_error,
                                          [self = shared_from_this()](beast::error_code) {});
                      },
-                 .failed = [this] { closed_ = true; }}) {}
+                 .failed = [this] { closed_ = true; }}) {
+  worker_->dataset = std::move(dataset);
+}
 
 BundleStreamSession::~BundleStreamSession() {
   if (counted_) --owner_.open_;
@@ -137,6 +141,7 @@ void BundleStreamSession::on_read(beast::error_code ec, std::size_t) {
   if (ec) {
     closed_ = true;
     timer_.cancel();
+    poll_timer_.cancel();
     return;  // closed or failed: the session ends when the last handler lets go
   }
   if (!ws_.got_text()) {
@@ -196,37 +201,53 @@ void BundleStreamSession::maybe_update() {
   last_start_ = now;
   if (!dirty_) --settle_left_;
   dirty_ = false;
-  boost::asio::post(owner_.pool_, [self = shared_from_this(), c = control_] { self->compute(c); });
+  // The task holds the worker only, never the session: the session's socket belongs to the network's
+  // io_context, which may be gone (server stopping) by the time an update ends.
+  boost::asio::post(owner_.pool_, [w = worker_, c = control_] { w->run(c); });
+  poll();
 }
 
-void BundleStreamSession::compute(StreamControl c) {
-  std::shared_ptr<const std::string> frame;
-  std::optional<nlohmann::json> error;
-  bool settled = false;
+void BundleStreamWorker::run(const StreamControl& c) {
+  Result r;
+  r.t = *c.t;
   try {
-    const TrailSet& trails = *dataset_->trails;
-    if (source_generation_ != c.view_generation) {
+    const TrailSet& trails = *dataset->trails;
+    if (source_generation != c.view_generation) {
       // Flight ids are TrailSet indices whatever the filters, so held trails that pass the new filters
       // stay bundled; the new frame carries their points over.
-      source_ = bundling::flight_stream_source(trails, c.filters);
+      source = bundling::flight_stream_source(trails, c.filters);
       const bundling::StreamParams p = stream_params(c);
       const bundling::Frame frame_now = stream_frame(trails, c, p.size);
-      if (!bundler_)
-        bundler_ = std::make_unique<bundling::StreamingBundler>(frame_now, p);
+      if (!bundler)
+        bundler = std::make_unique<bundling::StreamingBundler>(frame_now, p);
       else
-        bundler_->set_frame(frame_now);
-      source_generation_ = c.view_generation;
+        bundler->set_frame(frame_now);
+      source_generation = c.view_generation;
     }
-    bundler_->set_window(c.window_s, c.fade_s);
-    const bundling::StreamUpdate u = bundler_->update(*c.t, source_);
+    bundler->set_window(c.window_s, c.fade_s);
+    const bundling::StreamUpdate u = bundler->update(*c.t, source);
     // Settled: nothing entered (entering trails are not in the drift yet) and the rest barely moved.
-    settled = u.added == 0 && u.drift_px < kSettledDriftPx;
-    frame = std::make_shared<const std::string>(encode_stream_frame(u, bundler_->frame(), c.window_s));
+    r.settled = u.added == 0 && u.drift_px < BundleStreamSession::kSettledDriftPx;
+    r.frame = std::make_shared<const std::string>(encode_stream_frame(u, bundler->frame(), c.window_s));
   } catch (const std::exception& e) {
-    error = error_message(error_body(e).body);
+    r.error = error_message(error_body(e).body);
   }
-  boost::asio::post(ws_.get_executor(), [self = shared_from_this(), frame, error, settled, t = *c.t] {
-    self->on_computed(frame, error, settled, t);
+  const std::lock_guard lock(mutex);
+  done = std::move(r);
+}
+
+std::optional<BundleStreamWorker::Result> BundleStreamWorker::take() {
+  const std::lock_guard lock(mutex);
+  return std::exchange(done, std::nullopt);
+}
+
+void BundleStreamSession::poll() {
+  poll_timer_.expires_after(kPollInterval);
+  poll_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+    if (ec || self->closed_) return;
+    auto r = self->worker_->take();
+    if (!r) return self->poll();
+    self->on_computed(std::move(r->frame), std::move(r->error), r->settled, r->t);
   });
 }
 

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -51,6 +52,29 @@ class BundleStreams {
   std::atomic<std::size_t> open_{0};
 };
 
+/// The bundling side of one stream: what its updates run on the pool with. A task on the pool holds this,
+/// never the session (whose socket belongs to the network's io_context, which may be gone when a task
+/// ends); the session polls for the result on its own strand.
+struct BundleStreamWorker {
+  struct Result {
+    std::shared_ptr<const std::string> frame;  ///< the TSBS frame, or null with `error`
+    std::optional<nlohmann::json> error;       ///< an error message to send
+    bool settled = false;                      ///< no trail added and drift < kSettledDriftPx
+    double t = 0;                              ///< the update's clock
+  };
+  /// One update for `c` (on the pool; one at a time per worker), leaving its result for take().
+  void run(const StreamControl& c);
+  /// The result of the last run(), once (thread-safe).
+  std::optional<Result> take();
+
+  std::shared_ptr<const Dataset> dataset;
+  std::unique_ptr<bundling::StreamingBundler> bundler;
+  bundling::StreamSource source;
+  std::uint64_t source_generation = ~std::uint64_t{0};
+  std::mutex mutex;
+  std::optional<Result> done;  ///< guarded by `mutex`
+};
+
 class BundleStreamSession : public std::enable_shared_from_this<BundleStreamSession> {
  public:
   /// An update that added no trail and whose mean drift is below this (px) counts as settled: with the
@@ -72,8 +96,9 @@ class BundleStreamSession : public std::enable_shared_from_this<BundleStreamSess
   void send_frame(std::shared_ptr<const std::string> frame);
   /// Starts an update when one is wanted, none is running and the rate allows.
   void maybe_update();
-  /// Runs on the pool: the update for `c`, encoded; or the error to send.
-  void compute(StreamControl c);
+  /// Waits (polling every kPollInterval on the strand) for the worker's result.
+  void poll();
+  static constexpr auto kPollInterval = std::chrono::milliseconds(5);
   void on_computed(std::shared_ptr<const std::string> frame, std::optional<nlohmann::json> error,
                    bool settled, double t);
 
@@ -82,6 +107,8 @@ class BundleStreamSession : public std::enable_shared_from_this<BundleStreamSess
   boost::asio::steady_timer timer_;
   BundleStreams& owner_;
   std::shared_ptr<const Dataset> dataset_;
+  std::shared_ptr<BundleStreamWorker> worker_;
+  boost::asio::steady_timer poll_timer_;
   bool counted_;
   WsWriteQueue out_;
   bool closed_ = false;
@@ -98,11 +125,6 @@ class BundleStreamSession : public std::enable_shared_from_this<BundleStreamSess
   int settle_left_ = 0;           ///< updates still allowed with the clock standing still
   bool failed_ = false;           ///< the last update failed; wait for the next control message
   std::chrono::steady_clock::time_point last_start_{};
-
-  // worker state (touched only by compute(), one at a time)
-  std::unique_ptr<bundling::StreamingBundler> bundler_;
-  bundling::StreamSource source_;
-  std::uint64_t source_generation_ = ~std::uint64_t{0};
 };
 
 }  // namespace trailscope::server
