@@ -257,10 +257,12 @@ StreamUpdate StreamingBundler::update(double t, const StreamSource& source) {
     }
   } restore{pts, x_, y_, z_};
   if (n > 0) {
-    // `auto` picks OpenCL on a GPU only: on PoCL's CPU device the per-update upload, buffer set-up and
-    // read-back cost more than the kernels gain over the reference (tests/bench/stream_bundle_bench.cpp
-    // on the 2-core build machine, 40.6k trails, 258k points, 2 iterations: 88.7 ms per update on PoCL vs
-    // 67.1 ms on the reference, means of 60 updates under the load of other builds).
+    // `auto` picks OpenCL on a GPU only. On PoCL's CPU device the kernels use both cores but each update
+    // also uploads the points, sets up the buffers and reads them back; measured on the 2-core build
+    // machine (tests/bench/stream_bundle_bench.cpp, 40.6k trails, 258k points, 2 iterations, means of 60
+    // updates, other builds running): PoCL 88.7 / 91.6 / 56.5 ms per update against the single-threaded
+    // reference's 67.1 / 97.3 / 86.4 ms in three runs, neither ahead reliably, and the reference leaves
+    // a core to the server's other work.
     const bool worth = backend_ == Backend::auto_ && ocl::device_is_gpu();
     const ocl::Path p = ocl::dispatch(
         "bundle_stream", backend_, worth,
