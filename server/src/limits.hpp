@@ -88,4 +88,16 @@ inline constexpr std::size_t kMaxReplayViewers = 32;
 inline constexpr std::size_t kMaxProjectionRequestRows = 20'000;
 inline constexpr std::size_t kMaxProjectionRequestCells = 2'000'000;
 
+// --- bundle streams (GET /api/v1/datasets/{dataset}/bundles/stream, WebSocket) ------------------------
+/// Bundle streams open at once: each keeps a streaming bundler of up to kMaxStreamPoints points and runs
+/// its updates on the shared workers.
+inline constexpr std::size_t kMaxBundleStreams = 4;
+/// Threads that run the streams' updates (never the network threads).
+inline constexpr unsigned kBundleStreamWorkers = 2;
+/// Shortest time between the starts of two updates of one stream, ms: at most 10 updates/s.
+inline constexpr int kBundleStreamMinIntervalMs = 100;
+/// Updates a stream runs after the client's last control message while the clock stands still (the
+/// bundles settle), unless the drift falls below 0.05 px first.
+inline constexpr int kBundleStreamSettleUpdates = 100;
+
 }  // namespace trailscope::limits

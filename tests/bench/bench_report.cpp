@@ -578,6 +578,72 @@ int main(int argc, char** argv) {
       }
     }
 
+    // ---- 6b. streaming bundling -------------------------------------------------------------------
+    if (!find("stream_bundle").empty()) {
+      body << "## 6b. Streaming bundling (bundles that follow the clock)\n\n"
+              "`tests/bench/stream_bundle_bench.cpp`: `bundling::StreamingBundler` "
+              "(`trailscope/bundling/streaming.hpp`) over a generated day of US traffic, the trails of the "
+              "window [t − W, t] (a flight's whole path while its time extent overlaps the window) kept "
+              "bundled in a 512 px frame of the data's extent: per update the entering trails are resampled "
+              "and added, the leaving ones removed, and 2 CUBu iterations run at the fixed kernel h = 32 px "
+              "(step 1.6 px), each trail's splat weighted by its fade ramp, then the anchor pulls every "
+              "point a fifth of the way back to its input. The clock advances by the step per update, "
+              "starting at 19:00 UTC after the settling updates; time is the wall time of a whole update "
+              "(selection, resampling, iterations, drift, output). Drift = mean displacement of the points "
+              "of the trails present in two consecutive updates (px of the frame). Targets: ≥ 10 updates/s "
+              "on 40k trails on this machine, mean drift per update ≤ 2 px.\n\n"
+              "| backend | flights | window | step | trails (mean) | points | entering / leaving per update "
+              "| ms per update p50 (mean) | **updates/s** | select / splat / convolve / advect / smooth / "
+              "output "
+              "ms | **drift px** mean (p95, max) | largest point move |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      double best = 0, drift = -1;
+      for (const json* r : find("stream_bundle")) {
+        if (r->contains("skipped")) {
+          body << "| " << str(r, "backend") << " | skipped: " << str(r, "skipped") << " |||||||||||\n";
+          continue;
+        }
+        best = std::max(best, dbl(r, "updates_per_s"));
+        drift = std::max(drift, dbl(r, "drift_px_mean"));
+        body << "| " << str(r, "backend") << (str(r, "path") == "opencl" ? " (" + str(r, "device") + ")" : "")
+             << " | " << grouped(r, "flights") << " | " << num(dbl(r, "window_s") / 3600, 1) << " h | "
+             << num(dbl(r, "step_s"), 0) << " s | " << grouped(dbl(r, "trails_mean")) << " | "
+             << grouped(dbl(r, "points_mean")) << " | " << num(dbl(r, "added_mean"), 1) << " / "
+             << num(dbl(r, "removed_mean"), 1) << " | " << ms(r, "ms_p50") << " (" << ms(r, "ms_mean")
+             << ") | **" << num(dbl(r, "updates_per_s"), 1) << "** | " << ms(r, "select_ms_mean") << " / "
+             << ms(r, "splat_ms_mean") << " / " << ms(r, "convolve_ms_mean") << " / "
+             << ms(r, "advect_ms_mean") << " / " << ms(r, "smooth_ms_mean") << " / "
+             << ms(r, "output_ms_mean") << " | **" << num(dbl(r, "drift_px_mean"), 3) << "** ("
+             << num(dbl(r, "drift_px_p95"), 3) << ", " << num(dbl(r, "drift_px_max"), 3) << ") | "
+             << num(dbl(r, "max_point_drift_px"), 2) << " px |\n";
+      }
+      if (best > 0) {
+        targets.push_back({"streaming bundling", "updates/s on ~40k trails (best backend)", "≥ 10",
+                           num(best, 1), best >= 10});
+        targets.push_back(
+            {"streaming bundling", "mean drift per update", "≤ 2 px", num(drift, 3) + " px", drift <= 2});
+      }
+      if (const json* mt = find1("stream_bundle_match", {})) {
+        const bool ok = dbl(mt, "shape_mean_px") <= 1.5 && dbl(mt, "shape_p95_px") <= 6 &&
+                        dbl(mt, "point_mean_px") <= 2.5;
+        body
+            << "\nFinal state against a from-scratch bundle of the same window (" << grouped(mt, "trails")
+            << " trails, " << grouped(mt, "points") << " points): the clock held until the drift fell below "
+            << "0.05 px (" << str(mt, "hold_updates") << " updates), then compared with a fresh bundler at "
+            << "the same instant updated " << str(mt, "scratch_updates") << " times. Shape distance (each "
+            << "point to the same trail's from-scratch polyline): mean **" << num(dbl(mt, "shape_mean_px"), 3)
+            << " px**, p95 " << num(dbl(mt, "shape_p95_px"), 3) << " px; point distance (same point): mean "
+            << num(dbl(mt, "point_mean_px"), 3) << " px, p95 " << num(dbl(mt, "point_p95_px"), 3)
+            << " px; bundling moved the points " << num(dbl(mt, "bundled_mean_px"), 2)
+            << " px on average from their unbundled positions. Tolerance (the unit test's): shape mean ≤ 1.5 "
+            << "px, p95 ≤ 6 px, point mean ≤ 2.5 px.\n";
+        targets.push_back({"streaming bundling", "final state vs from-scratch bundle (shape mean / p95 px)",
+                           "≤ 1.5 / ≤ 6",
+                           num(dbl(mt, "shape_mean_px"), 3) + " / " + num(dbl(mt, "shape_p95_px"), 3), ok});
+      }
+      body << "\n";
+    }
+
     // ---- 7. projections --------------------------------------------------------------------------
     if (!find("projection").empty()) {
       body

@@ -232,6 +232,12 @@ if [ "$BUNDLE_1M" = 1 ]; then
 fi
 
 # ---------------------------------------------------------------------------------------------------
+say "5a. streaming bundling: ~40k trails of a generated US day kept bundled while the clock moves"
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target stream_bundle_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/stream_bundle_bench" --flights "${STREAM_FLIGHTS:-175000}" --window-s 7200 --step-s 30 --settle 30 \
+  --updates "${STREAM_UPDATES:-60}" --backends cpu,opencl --match 1
+
+# ---------------------------------------------------------------------------------------------------
 say "5b. projections (PCA, MDS, t-SNE, LAMP at 1k-100k x 50) and the npm peers on the same data"
 PROJ_DIR=$OUT/projection
 PROJ_SIZES=${PROJ_SIZES:-1000,5000,20000,100000}

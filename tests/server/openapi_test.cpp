@@ -121,6 +121,14 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kDefaultAnimationChunkSeconds", double(L::kDefaultAnimationChunkSeconds)},
       {"kMaxAnimationChunkSamples", double(L::kMaxAnimationChunkSamples)},
       {"kAnimationCacheBytes", double(L::kAnimationCacheBytes)},
+      {"kMaxStreamTrails", double(L::kMaxStreamTrails)},
+      {"kMaxStreamPoints", double(L::kMaxStreamPoints)},
+      {"kMaxStreamIterations", double(L::kMaxStreamIterations)},
+      {"kMaxStreamWindowSeconds", L::kMaxStreamWindowSeconds},
+      {"kMaxBundleStreams", double(L::kMaxBundleStreams)},
+      {"kBundleStreamWorkers", double(L::kBundleStreamWorkers)},
+      {"kBundleStreamMinIntervalMs", double(L::kBundleStreamMinIntervalMs)},
+      {"kBundleStreamSettleUpdates", double(L::kBundleStreamSettleUpdates)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

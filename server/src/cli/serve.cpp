@@ -70,7 +70,7 @@ void add_serve(CLI::App& app) {
           std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size()
                     << " dataset(s) at http://" << o->host << ":" << port << "/" << std::endl;
         },
-        app.replays.get());
+        app.replays.get(), app.bundle_streams.get());
     std::cout << "stopped" << std::endl;
   });
 }

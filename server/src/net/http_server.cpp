@@ -23,6 +23,7 @@
 #include "net/ws_hub.hpp"
 #include "replay/replay_manager.hpp"
 #include "replay/replay_viewer.hpp"
+#include "bundle_stream/bundle_stream_session.hpp"
 #include "trailscope/core/error.hpp"
 #include "limits.hpp"
 
@@ -112,7 +113,7 @@ fs::path upload_path(const fs::path& dir) {
 }
 
 net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsHub& hub, fs::path upload_dir,
-                             ReplayManager* replays) {
+                             ReplayManager* replays, BundleStreams* streams) {
   beast::flat_buffer buffer;
   beast::error_code ec;
   for (;;) {
@@ -138,6 +139,8 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
           if (!replays) throw not_found("replay", "replay '" + up.params.at("replay") + "' does not exist");
           replay = replays->get(up.params.at("replay"));
         }
+        if (up.route && up.route->websocket == WebSocketKind::bundle_stream && !streams)
+          throw Error(Error::Kind::internal, "", "this server was started without bundle streams");
       } catch (const std::exception& e) {
         up.route = nullptr;
         up.refusal = error_response(e);
@@ -148,7 +151,9 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
         break;
       }
       stream.expires_never();
-      if (replay)
+      if (up.route->websocket == WebSocketKind::bundle_stream)
+        streams->open(std::move(stream), head.release(), up.params.at("dataset"));
+      else if (replay)
         std::make_shared<ReplayViewer>(std::move(stream), replay)->run(head.release());
       else
         std::make_shared<WebSocketSession>(std::move(stream), hub)->run(head.release());
@@ -206,7 +211,7 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
 }
 
 net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub& hub, fs::path upload_dir,
-                            ReplayManager* replays) {
+                            ReplayManager* replays, BundleStreams* streams) {
   for (;;) {
     beast::error_code ec;
     auto socket = co_await acceptor.async_accept(net::make_strand(acceptor.get_executor()),
@@ -216,7 +221,8 @@ net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub
       continue;  // e.g. too many open files: keep serving the others
     }
     auto ex = socket.get_executor();
-    net::co_spawn(ex, session(beast::tcp_stream(std::move(socket)), router, hub, upload_dir, replays),
+    net::co_spawn(ex,
+                  session(beast::tcp_stream(std::move(socket)), router, hub, upload_dir, replays, streams),
                   net::detached);
   }
 }
@@ -224,7 +230,8 @@ net::awaitable<void> listen(tcp::acceptor& acceptor, const Router& router, WsHub
 }  // namespace
 
 void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub, const fs::path& upload_dir,
-                     const std::function<void(unsigned short)>& on_listening, ReplayManager* replays) {
+                     const std::function<void(unsigned short)>& on_listening, ReplayManager* replays,
+                     BundleStreams* streams) {
   net::io_context ioc(static_cast<int>(opts.threads));
   tcp::acceptor acceptor(ioc);
   beast::error_code ec;
@@ -245,7 +252,7 @@ void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub
     acceptor.close();
     ioc.stop();
   });
-  net::co_spawn(ioc, listen(acceptor, router, hub, upload_dir, replays), net::detached);
+  net::co_spawn(ioc, listen(acceptor, router, hub, upload_dir, replays, streams), net::detached);
   std::vector<std::thread> threads;
   for (unsigned i = 1; i < std::max(1u, opts.threads); ++i) threads.emplace_back([&] { ioc.run(); });
   ioc.run();

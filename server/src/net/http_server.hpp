@@ -13,6 +13,7 @@ namespace trailscope::server {
 
 class WsHub;
 class ReplayManager;
+class BundleStreams;
 
 struct ServerOptions {
   std::string host = "127.0.0.1";
@@ -23,11 +24,12 @@ struct ServerOptions {
 /// Serves `router` until SIGINT/SIGTERM. `on_listening(port)` is called once the socket is bound.
 /// Bodies of routes whose BodyRule says so stream to `upload_dir` instead of memory. WebSocket upgrades
 /// of WebSocketKind::events join `hub`; those of WebSocketKind::replay become viewers of the replay
-/// {replay} of `replays` (none when null).
+/// {replay} of `replays` (none when null); those of WebSocketKind::bundle_stream become bundle streams of
+/// `streams` (refused with 404 naming the endpoint when null).
 /// Throws Error(internal) when the address cannot be bound.
 void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub,
                      const std::filesystem::path& upload_dir,
                      const std::function<void(unsigned short)>& on_listening,
-                     ReplayManager* replays = nullptr);
+                     ReplayManager* replays = nullptr, BundleStreams* streams = nullptr);
 
 }  // namespace trailscope::server

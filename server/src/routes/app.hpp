@@ -16,6 +16,7 @@
 #include "store/run_store.hpp"
 #include "store/video_store.hpp"
 #include "replay/replay_manager.hpp"
+#include "bundle_stream/bundle_stream_session.hpp"
 #include "store/tile_cache.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/density/renderer.hpp"
@@ -44,6 +45,8 @@ struct App {
   std::shared_ptr<MotStore> mot;
   std::shared_ptr<SweepStore> sweeps;
   std::shared_ptr<ReplayManager> replays;
+  /// Bundle streams over WebSocket (their worker pool and count); always present.
+  std::shared_ptr<BundleStreams> bundle_streams;
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});

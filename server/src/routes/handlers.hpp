@@ -63,6 +63,9 @@ Response delete_replay(App& app, const Request& req, const PathParams& p);
 /// The check of a replay's WebSocket upgrade: 404 "replay" when unknown, 409 when it has its
 /// limits::kMaxReplayViewers viewers; else 101.
 Response replay_viewer_check(App& app, const Request& req, const PathParams& p);
+/// The check of a bundle stream's WebSocket upgrade: 404 "dataset" when unknown, 409 "stream" when
+/// limits::kMaxBundleStreams streams are open, 400 for any query parameter.
+Response bundle_stream_check(App& app, const Request& req, const PathParams& p);
 
 Response static_file(App& app, const Request& req, const PathParams& p);
 

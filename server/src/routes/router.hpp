@@ -23,8 +23,8 @@ struct BodyRule {
   std::string name = "request body";
 };
 
-/// The WebSocket session an upgrade route opens: job events (WsHub) or a replay viewer.
-enum class WebSocketKind { none, events, replay };
+/// The WebSocket session an upgrade route opens: job events (WsHub), a replay viewer, or a bundle stream.
+enum class WebSocketKind { none, events, replay, bundle_stream };
 
 class Router {
  public:

@@ -17,6 +17,7 @@ App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::fi
     mot = std::make_shared<MotStore>(data_root);
     sweeps = std::make_shared<SweepStore>(data_root);
   }
+  bundle_streams = std::make_shared<BundleStreams>(store);
 }
 
 Router make_router(App& app) {
@@ -106,6 +107,9 @@ Router make_router(App& app) {
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });
   r.add_websocket("/api/v1/replays/{replay}/ws", WebSocketKind::replay, bind(replay_viewer_check));
+  // Bundles that follow a client's clock (404 or 409 before the upgrade).
+  r.add_websocket("/api/v1/datasets/{dataset}/bundles/stream", WebSocketKind::bundle_stream,
+                  bind(bundle_stream_check));
   r.set_fallback(bind(static_file));
   return r;
 }

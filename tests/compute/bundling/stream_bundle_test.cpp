@@ -148,6 +148,28 @@ TEST(StreamBundle, EnteringTrailsStartUnbundledOnTheirResampledPath) {
   }
 }
 
+TEST(StreamBundle, ANewSourceWithTheSameIdsKeepsTheTrails) {
+  Synthetic s = synthetic(400, 29);
+  StreamParams p;
+  StreamingBundler b(plane(), p, Backend::cpu);
+  const StreamUpdate first = b.update(3 * 3600, s.source);
+  // The same trails in reverse order (other indices), half of them only: held trails are found by id.
+  StreamSource reversed;
+  std::vector<std::size_t> back;
+  for (std::size_t i = s.source.trails.size(); i-- > 0;)
+    if (i % 2 == 0) reversed.trails.push_back(s.source.trails[i]), back.push_back(i);
+  reversed.geometry = [&](std::size_t i, std::vector<double>& x, std::vector<double>& y) {
+    s.source.geometry(back[i], x, y);
+  };
+  const StreamUpdate u = b.update(3 * 3600 + 30, reversed);
+  std::size_t kept = 0;
+  for (std::uint64_t id : first.id) kept += (id - 1000) % 2 == 0;
+  EXPECT_EQ(u.added, present_at(reversed, 3 * 3600 + 30, p.window_s).size() - kept);
+  EXPECT_EQ(u.persistent, kept);
+  EXPECT_EQ(u.removed, first.id.size() - kept);
+  EXPECT_LT(u.drift_px, 2.0);
+}
+
 TEST(StreamBundle, DriftPerUpdateIsSmallAndReportedExactly) {
   Synthetic s = synthetic(1500, 7);
   StreamParams p;  // defaults: h = 16, eps = 0.05, 2 iterations

@@ -169,6 +169,7 @@ class StreamingBundler {
   bool frame_changed_ = false;
   // The held trails, in the flat layout of the CUBu steps (pixels).
   std::vector<std::uint64_t> ids_;
+  std::vector<std::size_t> src_index_;  ///< per held trail, its index in the last source
   std::vector<double> t0_, t1_;
   std::vector<float> base_weight_;  ///< the density weight before the fade
   std::vector<float> x_, y_, z_;
