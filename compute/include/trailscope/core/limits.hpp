@@ -124,4 +124,9 @@ inline constexpr std::size_t kMaxCompareFrames = 50'000;
 /// Most disagreement frames one comparison lists.
 inline constexpr std::size_t kMaxCompareTop = 1000;
 
+// --- congestion: losses of separation and the congestion map ---------------------------------------
+/// Most events one losses-of-separation computation returns (each ~250 bytes of JSON); a window with
+/// more is refused (narrow it with t0/t1, bbox, the altitude band, callsign or icao24).
+inline constexpr std::size_t kMaxSeparationEvents = 100'000;
+
 }  // namespace trailscope::limits
