@@ -60,15 +60,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trailscope/congestion/volumes.hpp"
 #include "trailscope/core/progress.hpp"
 #include "trailscope/trails/query.hpp"
 #include "trailscope/trails/trail_set.hpp"
 
 namespace trailscope::congestion {
 
-/// Metres per nautical mile and per foot (exact, by definition).
+/// Metres per nautical mile (exact, by definition); metres per foot is volumes.hpp's kMetresPerFoot.
 inline constexpr double kMetresPerNm = 1852.0;
-inline constexpr double kMetresPerFoot = 0.3048;
 /// Largest latitude change (degrees) of either aircraft within one sub-piece of the tangent-plane solve.
 inline constexpr double kSubPieceLatDeg = 0.01;
 /// Length of the time buckets of the candidate-pair hash (seconds).
