@@ -62,6 +62,13 @@ Response delete_replay(App& app, const Request& req, const PathParams& p);
 /// limits::kMaxReplayViewers viewers; else 101.
 Response replay_viewer_check(App& app, const Request& req, const PathParams& p);
 
+/// Airspace sectors: an upload (a GeoJSON FeatureCollection, congestion::parse_sectors) stored whole; its
+/// GeoJSON back. Congestion counts: a job (jobs/congestion_job.hpp); its result as JSON or CSV.
+Response create_sectors(App& app, const Request& req, const PathParams& p);
+Response get_sectors(App& app, const Request& req, const PathParams& p);
+Response create_congestion(App& app, const Request& req, const PathParams& p);
+Response get_congestion(App& app, const Request& req, const PathParams& p);
+
 Response static_file(App& app, const Request& req, const PathParams& p);
 
 }  // namespace trailscope::server::handlers
