@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Browser tests of the TrailScope dashboards against real servers over loopback.
 #   1. a temporary data dir, 2. `trailscope ingest` of the Europe SO6 day as "europe",
-#   3. `trailscope serve` on a free port (127.0.0.1 only), 4. the flight dashboard test (dashboard.test.mjs),
+#   3. `trailscope serve` on a free port (127.0.0.1 only), 4. the flight dashboard test (dashboard.test.mjs)
+#      and the playback test (animation.test.mjs) on that server,
 #   5. a second server on its own data dir with `--demo` (the synthetic tracker videos) and the tracker
 #      dashboard test (tracker.test.mjs), 6. a third server on its own empty data dir and the runs
 #      dashboard test (runs.test.mjs: it makes short synthetic videos and a 200-run sweep through the API),
 #   7. the servers are always stopped.
 # Environment: TRAILSCOPE_BIN (default build/server/trailscope), TRAILSCOPE_SHARED (default ../shared),
 #              CHROMIUM (default /usr/bin/chromium), E2E_KEEP=1 keeps the temp dir,
-#              E2E_ONLY=dashboard|tracker|runs runs one of the three tests; RUNS_SAMPLES, RUNS_FRAMES
+#              E2E_ONLY=dashboard|animation|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
 #              and RUNS_SCENARIOS size the runs test's sweep (default 100 points × standard, fast-motion
 #              videos of 64 frames).
 # Prints "N passed, M failed" last; exits non-zero on any failure.
@@ -85,14 +86,15 @@ run_test() {
   fi
 }
 
-if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ]; then
+if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ]; then
   echo "run.sh: ingest $DATA"
   "$BIN" ingest "$DATA" --data-dir "$TMP/data" --name europe >"$TMP/ingest.log" 2>&1 || {
     tail -n 20 "$TMP/ingest.log" >&2
     die "ingest failed"
   }
   start_server flights "$TMP/data"
-  run_test dashboard.test.mjs DATASET=europe
+  [ "$ONLY" = animation ] || run_test dashboard.test.mjs DATASET=europe
+  [ "$ONLY" = dashboard ] || run_test animation.test.mjs DATASET=europe
 fi
 
 if [ -z "$ONLY" ] || [ "$ONLY" = tracker ]; then

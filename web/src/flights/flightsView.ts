@@ -16,6 +16,10 @@ import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
 import { SummaryView } from './summary';
 import { TimeBrush } from './timeBrush';
+import { Clock, parsePlayback, writePlayback } from './clock';
+import { COLOR_BYS, PlaybackView } from './playback';
+import { TrafficAnimation } from './animation';
+import type { ColorBy } from './animation/types';
 import { dashboardOf } from '../route';
 
 const SUMMARY_BINS = 96;
@@ -39,6 +43,8 @@ interface HashState {
   datasetId: string | null;
   view: { lng: number; lat: number; zoom: number } | null;
   flight: number | null;
+  /** The playback instant (`at`: the playback view is open), speed, tail and colour-by. */
+  playback: ReturnType<typeof parsePlayback> & { colorBy: ColorBy };
 }
 
 function readHash(): { state: Partial<AppState>; extra: HashState } {
@@ -48,12 +54,14 @@ function readHash(): { state: Partial<AppState>; extra: HashState } {
   filters.bbox = null;
   const view = q.get('view')?.split(',').map(Number);
   const flight = Number(q.get('flight'));
+  const color = q.get('color');
   return {
     state: { filters, render: parseRender(q), useMapView },
     extra: {
       datasetId: q.get('dataset'),
       view: view && view.length === 3 && view.every(Number.isFinite) ? { lng: view[0]!, lat: view[1]!, zoom: view[2]! } : null,
       flight: q.has('flight') && Number.isInteger(flight) ? flight : null,
+      playback: { ...parsePlayback(q), colorBy: COLOR_BYS.find((c) => c === color) ?? 'altitude' },
     },
   };
 }
@@ -68,6 +76,9 @@ export class FlightsView {
   private readonly card: FlightCard;
   private readonly jobs: JobsView;
   private readonly bundles: BundlePanel;
+  /** The one time cursor of the dashboard (clock.ts): playback, the histogram's cursor and every time layer. */
+  readonly clock: Clock;
+  private readonly playback: PlaybackView;
   private readonly summaryCh = new Channel();
   private readonly histCh = new Channel();
   private readonly flightsCh = new Channel();
@@ -96,7 +107,7 @@ export class FlightsView {
       onTileError: (err) => this.errors.show('tiles', err),
       onTilesOk: () => this.errors.clear('tiles'),
     });
-    (window as unknown as { trailscope: unknown }).trailscope = { map: this.map.map, store: this.store };
+    this.clock = new Clock({ t: extra.playback.at ?? NaN, speed: extra.playback.speed });
 
     new Controls(byId('dataset-section'), byId('filter-section'), byId('render-section'), this.store, this.errors);
     this.summary = new SummaryView(byId('summary-section'), {
@@ -104,6 +115,7 @@ export class FlightsView {
     });
     this.brush = new TimeBrush(byId('timeline'), {
       onWindow: (w) => this.store.setFilters({ t0: w?.start ?? null, t1: w?.end ?? null }),
+      onCursor: (t) => this.clock.seek(t),
     });
     const timeError = h('div', { id: 'time-error' });
     byId('timeline').querySelector('.brush-head')!.append(timeError);
@@ -124,6 +136,35 @@ export class FlightsView {
     this.errors.register(['name', 'format'], byId('upload-error'));
     this.bundles = new BundlePanel(byId('bundle-section'), this.store, this.map, new BundleOverlay(this.map.map), this.errors);
 
+    this.playback = new PlaybackView(
+      byId('map-area'),
+      this.map.map,
+      this.clock,
+      (map, id, opts) => new TrafficAnimation(map, id, opts),
+      {
+        onSelect: (id, callsign, icao24) =>
+          this.selectFlight({ id, icao24, callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }, false),
+        onDeselect: () => this.store.set({ selectedFlight: null }),
+        onChange: () => this.onPlaybackChange(),
+      },
+      { on: extra.playback.at !== null, tail: extra.playback.tail, colorBy: extra.playback.colorBy },
+    );
+    this.clock.subscribe((c, prev) => {
+      if (c.t !== prev.t) this.brush.setCursor(this.playback.isOn() ? c.t : null);
+      // The URL follows the clock when it rests (not on every frame of playback).
+      if (!c.playing || c.speed !== prev.speed) this.writeHash();
+    });
+    this.map.setDimmed(this.playback.isOn());
+    const playback = this.playback;
+    (window as unknown as { trailscope: unknown }).trailscope = {
+      map: this.map.map,
+      store: this.store,
+      clock: this.clock,
+      get animation() {
+        return playback.animation();
+      },
+    };
+
     this.store.subscribe((s, prev) => this.onState(s, prev));
     window.addEventListener('keydown', (e) => {
       if (e.key === 'Escape' && this.store.get().selectedFlight !== null && !(e.target as HTMLElement).closest('.brush-plot')) {
@@ -132,6 +173,7 @@ export class FlightsView {
     });
 
     this.brush.setWindow(spanOf(this.store.get()));
+    this.brush.setCursor(this.playback.isOn() ? this.clock.get().t : null);
     void this.loadHealth();
     void this.loadDatasets(extra.datasetId);
     const socket = new JobSocket({
@@ -151,9 +193,16 @@ export class FlightsView {
 
   private onState(s: AppState, prev: AppState) {
     if (s.datasetId !== prev.datasetId) this.onDatasetChange(s, prev);
-    if (s.filters.t0 !== prev.filters.t0 || s.filters.t1 !== prev.filters.t1) this.brush.setWindow(spanOf(s));
+    if (s.filters.t0 !== prev.filters.t0 || s.filters.t1 !== prev.filters.t1) {
+      this.brush.setWindow(spanOf(s));
+      this.syncClockSpan();
+    }
+    if (s.filters !== prev.filters || s.useMapView !== prev.useMapView || (s.useMapView && s.mapBBox !== prev.mapBBox)) {
+      this.playback.setFilters(s.filters, this.store.effectiveFilters().bbox);
+    }
     if (s.selectedFlight !== prev.selectedFlight) {
       this.flights.setSelected(s.selectedFlight);
+      this.playback.setSelected(s.selectedFlight);
       if (s.selectedFlight === null) {
         this.trackCh.cancel();
         this.card.hide();
@@ -179,6 +228,8 @@ export class FlightsView {
       this.store.setFilters({ t0: null, t1: null });
     }
     this.summaryKey = this.histKey = this.flightsKey = '';
+    this.syncClockSpan();
+    this.playback.setDataset(s.datasetId, d ? [d.t_min, d.t_max] : null);
     if (this.initialView) {
       this.map.map.jumpTo({ center: [this.initialView.lng, this.initialView.lat], zoom: this.initialView.zoom });
       this.initialView = null;
@@ -348,7 +399,23 @@ export class FlightsView {
       });
   }
 
-  private selectFlight(row: FlightRow) {
+  /** The clock plays the time window, or the whole data set without one. */
+  private syncClockSpan() {
+    const s = this.store.get();
+    const d = this.store.dataset();
+    const w = spanOf(s);
+    this.clock.setSpan(w ?? (d ? { start: d.t_min, end: d.t_max } : null));
+  }
+
+  private onPlaybackChange() {
+    const on = this.playback.isOn();
+    this.map.setDimmed(on);
+    this.brush.setCursor(on ? this.clock.get().t : null);
+    this.writeHash();
+  }
+
+  /** Selects a flight: its card and track (`fit`: zoom to the track; off when the map follows the flight). */
+  private selectFlight(row: FlightRow, fit = true) {
     const d = this.store.dataset();
     if (!d) return;
     this.store.set({ selectedFlight: row.id });
@@ -358,7 +425,7 @@ export class FlightsView {
       .flight(d.id, row.id, signal)
       .then((f) => {
         if (this.store.get().selectedFlight !== row.id) return;
-        this.map.showTrack(f);
+        this.map.showTrack(f, fit);
         this.card.show(row, f);
       })
       .catch((e: unknown) => {
@@ -388,6 +455,9 @@ export class FlightsView {
     const c = this.map.map.getCenter();
     p.set('view', `${c.lng.toFixed(4)},${c.lat.toFixed(4)},${this.map.map.getZoom().toFixed(2)}`);
     if (s.selectedFlight !== null) p.set('flight', String(s.selectedFlight));
+    const c0 = this.clock.get();
+    writePlayback(p, { at: this.playback.isOn() ? c0.t : null, speed: c0.speed, tail: this.playback.tailSeconds() });
+    if (this.playback.isOn()) p.set('color', this.playback.color());
     const next = `#${p.toString()}`;
     if (window.location.hash !== next) history.replaceState(null, '', next);
   }

@@ -15,6 +15,8 @@ const DENSITY = 'density';
 const BUNDLE = 'bundle';
 const TRACK = 'track';
 const TRACK_ENDS = 'track-ends';
+/** Opacity of the density and bundle rasters behind the playback view's aircraft. */
+const DIMMED_OPACITY = 0.35;
 
 export interface MapViewEvents {
   /** The view settled at new bounds (after a pan or zoom). */
@@ -32,6 +34,7 @@ export class MapView {
   private template: string | null = null;
   private bundleTemplate: string | null = null;
   private densityShown = true;
+  private dimmed = false;
   private tileErrorShown = false;
 
   constructor(container: HTMLElement, private readonly events: MapViewEvents) {
@@ -218,8 +221,20 @@ export class MapView {
     this.applyVisibility();
   }
 
+  /**
+   * Dims the density and bundle layers behind the moving aircraft of the playback view (they show where
+   * the window's traffic goes; the aircraft show where it is now).
+   */
+  setDimmed(dimmed: boolean): void {
+    this.dimmed = dimmed;
+    this.container.dataset.dimmed = String(dimmed);
+    this.applyVisibility();
+  }
+
   private applyVisibility() {
     if (!this.map.getLayer(DENSITY) || !this.map.getLayer(BUNDLE)) return;
+    this.map.setPaintProperty(DENSITY, 'raster-opacity', this.dimmed ? DIMMED_OPACITY : 0.92);
+    this.map.setPaintProperty(BUNDLE, 'raster-opacity', this.dimmed ? DIMMED_OPACITY : 0.95);
     this.map.setLayoutProperty(DENSITY, 'visibility', this.template && this.densityShown ? 'visible' : 'none');
     this.map.setLayoutProperty(BUNDLE, 'visibility', this.bundleTemplate ? 'visible' : 'none');
   }
@@ -236,7 +251,8 @@ export class MapView {
     );
   }
 
-  showTrack(f: FlightFeature | null): void {
+  /** Draws a flight's track (null clears it); `fit` zooms the map to it (off while the map follows a flight). */
+  showTrack(f: FlightFeature | null, fit = true): void {
     const empty = { type: 'FeatureCollection' as const, features: [] };
     const trackSrc = this.map.getSource(TRACK) as maplibregl.GeoJSONSource | undefined;
     const endsSrc = this.map.getSource(TRACK_ENDS) as maplibregl.GeoJSONSource | undefined;
@@ -251,7 +267,7 @@ export class MapView {
     trackSrc.setData(t.segments);
     endsSrc.setData(t.ends);
     this.container.dataset.track = String(f.properties.id);
-    if (t.bounds) {
+    if (t.bounds && fit) {
       const [w, s, e, n] = t.bounds;
       this.map.fitBounds(
         [

@@ -1,6 +1,8 @@
 // The time histogram along the bottom, with a brush to pick the time window [t0, t1).
 // Drag to select (snapped to bins), drag inside to move, drag an edge to resize, double-click to clear.
 // Keyboard: ←/→ move the window by one bin, Shift+←/→ move its end, Esc clears.
+// With the playback clock shown (setCursor), a cursor marks its instant: drag the cursor to scrub, click
+// anywhere to jump there (the clock itself lives in clock.ts; this only draws and reports).
 
 import type { TimeHistogram } from '../api/types';
 import {
@@ -28,7 +30,12 @@ const TICK_STEPS = [60, 300, 900, 1800, 3600, 7200, 10800, 21600, 43200, 86400, 
 export interface TimeBrushEvents {
   /** The user committed a window (null clears it). */
   onWindow(w: Span | null): void;
+  /** The user moved the time cursor to t (a click, or each step of a drag on the cursor). */
+  onCursor?(t: number): void;
 }
+
+/** How close (px) to the cursor a press grabs it rather than starting a window. */
+const CURSOR_GRAB_PX = 5;
 
 export class TimeBrush {
   private readonly svgEl: SVGSVGElement;
@@ -40,7 +47,9 @@ export class TimeBrush {
   private window: Span | null = null;
   private width = 0;
   private height = 0;
-  private drag: { mode: DragMode; startT: number; startWin: Span | null; moved: boolean } | null = null;
+  private drag: { mode: DragMode | 'cursor'; startT: number; startWin: Span | null; moved: boolean } | null = null;
+  private cursor: number | null = null;
+  private cursorEl: SVGGElement | null = null;
   private state: 'empty' | 'loading' | 'ready' | 'error' = 'empty';
   private message = 'Pick a data set to see its traffic over time.';
 
@@ -129,6 +138,25 @@ export class TimeBrush {
     return e.clientX - this.plot.getBoundingClientRect().left;
   }
 
+  /** Shows the clock's instant as a cursor (null hides it). Moves only the cursor, not the whole plot. */
+  setCursor(t: number | null): void {
+    this.cursor = t !== null && Number.isFinite(t) ? t : null;
+    this.plot.dataset.cursor = this.cursor === null ? '' : String(this.cursor);
+    this.placeCursor();
+  }
+
+  private cursorX(): number | null {
+    return this.cursor === null || !this.domain ? null : timeToX(this.cursor, this.domain, this.width);
+  }
+
+  private placeCursor() {
+    const el = this.cursorEl;
+    if (!el) return;
+    const x = this.cursorX();
+    el.style.display = x === null ? 'none' : '';
+    if (x !== null) el.setAttribute('transform', `translate(${x.toFixed(2)},0)`);
+  }
+
   private winPx(w: Span | null) {
     if (!w || !this.domain) return null;
     return { x0: timeToX(w.start, this.domain, this.width), x1: timeToX(w.end, this.domain, this.width) };
@@ -137,7 +165,8 @@ export class TimeBrush {
   private onDown(e: PointerEvent) {
     if (e.button !== 0 || !this.domain || !this.hist) return;
     const x = this.localX(e);
-    const mode = hitTest(x, this.winPx(this.window));
+    const cx = this.cursorX();
+    const mode = this.events.onCursor && cx !== null && Math.abs(x - cx) <= CURSOR_GRAB_PX ? 'cursor' : hitTest(x, this.winPx(this.window));
     this.drag = { mode, startT: xToTime(x, this.domain, this.width), startWin: this.window, moved: false };
     this.plot.setPointerCapture(e.pointerId);
     this.plot.classList.add('dragging');
@@ -152,12 +181,19 @@ export class TimeBrush {
     const grid = gridOf(this.hist);
     if (!this.drag) {
       this.hover(x, t);
+      const cx = this.cursorX();
+      const onCursor = this.events.onCursor && cx !== null && Math.abs(x - cx) <= CURSOR_GRAB_PX;
       const mode = hitTest(x, this.winPx(this.window));
-      this.plot.style.cursor = mode === 'start' || mode === 'end' ? 'ew-resize' : mode === 'move' ? 'grab' : 'crosshair';
+      this.plot.style.cursor = onCursor || mode === 'start' || mode === 'end' ? 'ew-resize' : mode === 'move' ? 'grab' : 'crosshair';
       return;
     }
     this.tooltip.hidden = true;
     const d = this.drag;
+    if (d.mode === 'cursor') {
+      d.moved = true;
+      this.events.onCursor?.(t);
+      return;
+    }
     if (!d.moved && Math.abs(t - d.startT) < grid.step / 4) return;
     d.moved = true;
     if (d.mode === 'new' || !d.startWin) this.window = windowFromDrag(d.startT, t, this.domain, grid);
@@ -172,12 +208,20 @@ export class TimeBrush {
     this.drag = null;
     this.plot.classList.remove('dragging');
     if (this.plot.hasPointerCapture(e.pointerId)) this.plot.releasePointerCapture(e.pointerId);
-    // A plain click changes nothing (it would otherwise fire a query before every double-click).
+    // A plain click changes no window (it would otherwise fire a query before every double-click); with
+    // the cursor shown it jumps the clock there.
+    if (d.mode === 'cursor') return;
     if (d.moved) this.commit(this.window);
+    else if (this.events.onCursor && this.cursor !== null) this.events.onCursor(d.startT);
   }
 
   private cancelDrag() {
     if (!this.drag) return;
+    if (this.drag.mode === 'cursor') {
+      this.drag = null;
+      this.plot.classList.remove('dragging');
+      return;
+    }
     this.window = this.drag.startWin;
     this.drag = null;
     this.plot.classList.remove('dragging');
@@ -246,6 +290,7 @@ export class TimeBrush {
     const hist = this.hist;
     const d = this.domain;
     if (!hist || !d || W === 0 || H === 0) {
+      this.cursorEl = null;
       mount(this.svgEl, svg('text', { x: W / 2, y: H / 2, class: 'brush-empty', 'text-anchor': 'middle', 'dominant-baseline': 'middle' }, this.state === 'loading' ? 'Loading…' : this.message));
       return;
     }
@@ -294,6 +339,14 @@ export class TimeBrush {
         svg('rect', { x: wp.x1 - 2, y: TOP_PAD + ph / 2 - 10, width: 4, height: 20, rx: 1.5, class: 'handle' }),
       );
     }
+    this.cursorEl = svg(
+      'g',
+      { class: 'cursor', 'data-testid': 'time-cursor' },
+      svg('line', { x1: 0, x2: 0, y1: 0, y2: base, class: 'cursor-line' }),
+      svg('path', { d: 'M-5,0 L5,0 L0,6 Z', class: 'cursor-head' }),
+    );
+    children.push(this.cursorEl);
     mount(this.svgEl, ...children);
+    this.placeCursor();
   }
 }
