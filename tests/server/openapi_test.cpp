@@ -116,6 +116,19 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxProjectionIterations", double(L::kMaxProjectionIterations)},
       {"kMaxQualitySample", double(L::kMaxQualitySample)},
       {"kMaxQualityK", double(L::kMaxQualityK)},
+      {"kMaxCongestionSpanSeconds", L::kMaxCongestionSpanSeconds},
+      {"kMaxCongestionSteps", double(L::kMaxCongestionSteps)},
+      {"kMaxSectors", double(L::kMaxSectors)},
+      {"kMaxSectorVertices", double(L::kMaxSectorVertices)},
+      {"kMaxSectorNameLength", double(L::kMaxSectorNameLength)},
+      {"kMaxGridCells", double(L::kMaxGridCells)},
+      {"kMaxCongestionResultValues", double(L::kMaxCongestionResultValues)},
+      {"kMaxCongestionPieces", double(L::kMaxCongestionPieces)},
+      {"kMaxHotspots", double(L::kMaxHotspots)},
+      {"kMaxSeparationEvents", double(L::kMaxSeparationEvents)},
+      {"kMaxSectorUploadBytes", double(L::kMaxSectorUploadBytes)},
+      {"kMaxStoredSectorSets", double(L::kMaxStoredSectorSets)},
+      {"kMaxCongestionResults", double(L::kMaxCongestionResults)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

@@ -67,7 +67,7 @@ nlohmann::json CongestionOutput::summary() const {
     j["hotspots"] = counts->hotspots_total;
   }
   if (separation) {
-    j["flights"] = separation->flights;
+    if (!counts) j["flights"] = separation->flights;
     j["separation_events"] = separation->events.size();
   }
   return j;

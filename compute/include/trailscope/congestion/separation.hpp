@@ -34,8 +34,11 @@
 // over a sub-piece (latitude drifts by at most kSubPieceLatDeg/2 from the middle).
 //
 // Events: for each pair, the maximal time intervals where the infringement holds; two intervals of one
-// pair merge only when contiguous (one ends exactly where the next starts, e.g. at a sample time or at an
-// FL410 crossing); a gap of any length separates two events. Events are clipped to the window
+// pair merge when contiguous (one ends exactly where the next starts, e.g. at a sample time or at an
+// FL410 crossing) or when the gap between them is at most kJoinGapSeconds. The tolerance exists because
+// the tangent plane changes from one sub-piece to the next: the distance jumps there by up to the error
+// below, and an encounter that grazes the 5 NM circle exactly at such a cut could otherwise come out as
+// two events milliseconds apart. Any longer gap separates two events. Events are clipped to the window
 // [t0, t1): an event in progress at t0 starts at t0, one in progress at t1 ends at t1 (and then
 // clipped_start / clipped_end say so).
 //
@@ -71,6 +74,8 @@ namespace trailscope::congestion {
 inline constexpr double kMetresPerNm = 1852.0;
 /// Largest latitude change (degrees) of either aircraft within one sub-piece of the tangent-plane solve.
 inline constexpr double kSubPieceLatDeg = 0.01;
+/// Gaps between two infringement intervals of one pair up to this long (seconds) are joined (see above).
+inline constexpr double kJoinGapSeconds = 1.0;
 /// Length of the time buckets of the candidate-pair hash (seconds).
 inline constexpr double kBucketSeconds = 60.0;
 
