@@ -9,7 +9,7 @@
 #   7. the servers are always stopped.
 # Environment: TRAILSCOPE_BIN (default build/server/trailscope), TRAILSCOPE_SHARED (default ../shared),
 #              CHROMIUM (default /usr/bin/chromium), E2E_KEEP=1 keeps the temp dir,
-#              E2E_ONLY=dashboard|animation|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
+#              E2E_ONLY=dashboard|animation|congestion|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
 #              and RUNS_SCENARIOS size the runs test's sweep (default 100 points × standard, fast-motion
 #              videos of 64 frames).
 # Prints "N passed, M failed" last; exits non-zero on any failure.
@@ -86,15 +86,16 @@ run_test() {
   fi
 }
 
-if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ]; then
+if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || [ "$ONLY" = congestion ]; then
   echo "run.sh: ingest $DATA"
   "$BIN" ingest "$DATA" --data-dir "$TMP/data" --name europe >"$TMP/ingest.log" 2>&1 || {
     tail -n 20 "$TMP/ingest.log" >&2
     die "ingest failed"
   }
   start_server flights "$TMP/data"
-  [ "$ONLY" = animation ] || run_test dashboard.test.mjs DATASET=europe
-  [ "$ONLY" = dashboard ] || run_test animation.test.mjs DATASET=europe
+  [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || run_test dashboard.test.mjs DATASET=europe
+  [ "$ONLY" = dashboard ] || [ "$ONLY" = congestion ] || run_test animation.test.mjs DATASET=europe
+  [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || run_test congestion.test.mjs DATASET=europe
 fi
 
 if [ -z "$ONLY" ] || [ "$ONLY" = tracker ]; then
