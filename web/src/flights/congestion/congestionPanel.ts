@@ -29,7 +29,8 @@ import {
 } from './model';
 import { parseResult } from './model';
 import { SeriesChart } from './seriesChart';
-import type { Compute, CongestionBody } from './types';
+import type { Compute, CongestionBody, Method } from './types';
+import { congestionBody } from './request';
 import './congestion.css';
 
 const FINISHED = new Set(['done', 'failed', 'cancelled']);
@@ -261,42 +262,20 @@ export class CongestionPanel {
     for (const el of this.root.querySelectorAll<HTMLElement>('[aria-invalid]')) el.removeAttribute('aria-invalid');
   }
 
-  /** The request for the current data set, time window (the data set's range without one) and filters. */
+  /** The request for the current data set, time window and filters (request.ts). */
   private body(): CongestionBody | null {
     const d = this.deps.store.dataset();
     if (!d) return null;
     const s = this.deps.store.get();
-    const f = s.filters;
-    const query: Record<string, string | number> = {
-      t0: f.t0 ?? Math.floor(d.t_min),
-      // [t0, t1) is half-open: the data set's last sample is at t_max.
-      t1: f.t1 ?? Math.floor(d.t_max) + 1,
-    };
-    if (f.callsign) query.callsign = f.callsign;
-    if (f.icao24) query.icao24 = f.icao24;
-    let volumes: CongestionBody['volumes'];
-    if (this.usesSectors()) volumes = { sectors: this.sectorSelect.value };
-    else {
-      const grid: { bbox?: [number, number, number, number]; alt_min?: number; alt_max?: number; alt_unit?: 'ft' } = {};
-      if (s.mapBBox) grid.bbox = s.mapBBox.map((v) => Math.round(v * 1e4) / 1e4) as [number, number, number, number];
-      if (f.altMin !== null) grid.alt_min = f.altMin;
-      if (f.altMax !== null) grid.alt_max = f.altMax;
-      if (f.altMin !== null || f.altMax !== null) grid.alt_unit = 'ft';
-      volumes = { grid };
-    }
-    const body: CongestionBody = { dataset: d.id, query, volumes, compute: COMPUTE.map((c) => c.value).filter((c) => this.computeInputs.get(c)!.checked), method: this.method.value as 'interpolated' | 'samples' };
-    const thresholds: NonNullable<CongestionBody['thresholds']> = {};
-    for (const fld of this.fields) {
-      const v = fld.el.value.trim();
-      if (v === '') continue;
-      // Sent as typed: the server's parser names the field of a malformed value.
-      const n = Number(v);
-      const value = Number.isFinite(n) ? n : (v as unknown as number);
-      if (fld.name === 'step' || fld.name === 'duration') body[fld.name] = value;
-      else thresholds[fld.name as 'peak' | 'sustained' | 'sustained_steps'] = value;
-    }
-    if (Object.keys(thresholds).length) body.thresholds = thresholds;
-    return body;
+    return congestionBody({
+      dataset: d,
+      filters: s.filters,
+      mapBBox: s.mapBBox,
+      sectors: this.usesSectors() ? this.sectorSelect.value : null,
+      compute: COMPUTE.map((c) => c.value).filter((c) => this.computeInputs.get(c)!.checked),
+      method: this.method.value as Method,
+      fields: Object.fromEntries(this.fields.map((f) => [f.name, f.el.value])),
+    });
   }
 
   private async start() {
