@@ -12,10 +12,13 @@
 #include "trailscope/core/json_text.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/core/text.hpp"
+#include "intervals.hpp"
 
 namespace trailscope::congestion {
 
 namespace {
+
+using namespace detail;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
@@ -41,53 +44,6 @@ double meridional_radius(double phi) {
 double normal_radius(double phi) {
   const double s = std::sin(phi);
   return kA / std::sqrt(1.0 - kE2 * s * s);
-}
-
-// The short-way longitude step of a segment, with positions.cpp's rule (|Δlon| > 180° in float).
-double lon_step(float a, float b) {
-  double d = static_cast<double>(b) - a;
-  if (std::fabs(b - a) > 180.0f) d += d > 0 ? -360.0 : 360.0;
-  return d;
-}
-
-double wrap_lon(double lon) {
-  lon = std::remainder(lon, 360.0);  // [-180, 180]
-  if (lon >= 180) lon -= 360;
-  return lon;
-}
-
-// A closed time interval [lo, hi]; empty when hi <= lo (single instants do not count: every condition
-// of an infringement is strict, or is a band whose edges have no duration).
-struct Iv {
-  double lo, hi;
-};
-
-// Where v0 + k·t' lies in [lo, hi] for t' in [0, len].
-Iv linear_within(double v0, double k, double lo, double hi, double len) {
-  if (k == 0) return (v0 >= lo && v0 <= hi) ? Iv{0, len} : Iv{0, 0};
-  double a = (lo - v0) / k, b = (hi - v0) / k;
-  if (a > b) std::swap(a, b);
-  return {std::max(a, 0.0), std::min(b, len)};
-}
-
-// In-place intersection of a sorted list of disjoint intervals with one interval / another list.
-void intersect(std::vector<Iv>& list, Iv iv) {
-  std::size_t n = 0;
-  for (const Iv& x : list) {
-    const Iv y{std::max(x.lo, iv.lo), std::min(x.hi, iv.hi)};
-    if (y.hi > y.lo) list[n++] = y;
-  }
-  list.resize(n);
-}
-void intersect(std::vector<Iv>& list, const std::vector<Iv>& other) {
-  std::vector<Iv> out;
-  for (const Iv& x : list)
-    for (const Iv& y : other) {
-      const Iv z{std::max(x.lo, y.lo), std::min(x.hi, y.hi)};
-      if (z.hi > z.lo) out.push_back(z);
-    }
-  std::sort(out.begin(), out.end(), [](const Iv& p, const Iv& q) { return p.lo < q.lo; });
-  list.swap(out);
 }
 
 // One aircraft on one segment, over a piece starting at time s: values at s and slopes per second.
@@ -180,7 +136,7 @@ void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo,
   const std::size_t first_out = out.size();
   // Scratch reused across calls (this runs hundreds of thousands of times per day of traffic).
   thread_local std::vector<double> cuts;
-  thread_local std::vector<Iv> relaxed, strict, other;
+  thread_local std::vector<Iv> relaxed, strict;
 
   const auto emit = [&](const Part& part) {
     if (!(part.end > part.start)) return;
@@ -254,18 +210,8 @@ void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo,
             if (relaxed.empty()) break;
             if (c.has_band)
               intersect(relaxed, linear_within(l->alt_at(u), l->kalt, c.band_lo, c.band_hi, sl));
-            if (c.q.bbox && !relaxed.empty()) {
-              const BBox& bb = *c.q.bbox;
-              intersect(relaxed, linear_within(l->lat_at(u), l->klat, bb.south, bb.north, sl));
-              const double east = bb.west <= bb.east ? bb.east : bb.east + 360.0;
-              other.clear();
-              for (int w = -2; w <= 2; ++w) {
-                const Iv x = linear_within(l->lon_at(u), l->klon, bb.west + 360.0 * w, east + 360.0 * w, sl);
-                if (x.hi > x.lo) other.push_back(x);
-              }
-              std::sort(other.begin(), other.end(), [](const Iv& p1, const Iv& p2) { return p1.lo < p2.lo; });
-              intersect(relaxed, other);
-            }
+            if (c.q.bbox)
+              intersect_bbox(relaxed, l->lat_at(u), l->klat, l->lon_at(u), l->klon, *c.q.bbox, sl);
           }
           if (relaxed.empty()) continue;
           // The strict parts lie inside the relaxed ones by construction (same list, narrower horizontal).
