@@ -12,6 +12,7 @@ const VOL_FILL = 'cong-volumes-fill';
 const VOL_LINE = 'cong-volumes-line';
 const FLIGHTS = 'cong-flights';
 const SEP = 'cong-separation';
+const TILES = 'cong-map-tiles';
 const EMPTY: FeatureCollection = { type: 'FeatureCollection', features: [] };
 
 /** One footprint on the map: a cell column's rectangle or a sector's polygon. */
@@ -24,6 +25,8 @@ export interface Footprint {
 export interface CongestionLayerEvents {
   onVolumeClick(footprint: string): void;
   onEventClick(index: number): void;
+  /** A congestion-map tile failed (once per template): the status line, or the API's detail. */
+  onTilesError(detail: string): void;
 }
 
 export class CongestionLayer {
@@ -33,6 +36,8 @@ export class CongestionLayer {
   private selected: number | null = null;
   private active = new Set<number>();
   private ready = false;
+  private tileTemplate: string | null = null;
+  private tileErrorShown = false;
   private pending: (() => void)[] = [];
 
   constructor(
@@ -46,6 +51,9 @@ export class CongestionLayer {
   private add() {
     const m = this.map;
     const before = m.getLayer('track-casing') ? 'track-casing' : undefined;
+    // The congestion map (thresholded aircraft per pixel) under the volumes.
+    m.addSource(TILES, { type: 'raster', tiles: this.tileTemplate ? [this.tileTemplate] : [], tileSize: 256 });
+    m.addLayer({ id: TILES, type: 'raster', source: TILES, layout: { visibility: this.tileTemplate ? 'visible' : 'none' }, paint: { 'raster-opacity': 0.85, 'raster-fade-duration': 0 } }, before);
     m.addSource(VOL, { type: 'geojson', data: EMPTY });
     m.addSource(FLIGHTS, { type: 'geojson', data: EMPTY });
     m.addSource(SEP, { type: 'geojson', data: EMPTY });
@@ -110,6 +118,20 @@ export class CongestionLayer {
       m.on('mouseenter', l, () => (m.getCanvas().style.cursor = 'pointer'));
       m.on('mouseleave', l, () => (m.getCanvas().style.cursor = ''));
     }
+    m.on('error', (e: maplibregl.ErrorEvent & { sourceId?: string }) => {
+      if (e.sourceId !== TILES || this.tileErrorShown || !this.tileTemplate) return;
+      this.tileErrorShown = true;
+      const err = e.error as { status?: number; body?: unknown } | undefined;
+      const status = err?.status ?? 0;
+      const fallback = status ? `tiles failed (${status})` : 'tiles could not be loaded';
+      if (err?.body instanceof Blob) {
+        void err.body
+          .text()
+          .then((t) => (JSON.parse(t) as { detail?: string }).detail ?? fallback)
+          .catch(() => fallback)
+          .then((d) => this.events.onTilesError(d));
+      } else this.events.onTilesError(fallback);
+    });
     this.ready = true;
     for (const f of this.pending.splice(0)) f();
   }
@@ -117,6 +139,22 @@ export class CongestionLayer {
   private whenReady(f: () => void) {
     if (this.ready) f();
     else this.pending.push(f);
+  }
+
+  congestionTiles(): string | null {
+    return this.tileTemplate;
+  }
+
+  /** The congestion map's tile template (null hides it); an unchanged template does nothing. */
+  setCongestionTiles(template: string | null): void {
+    if (template === this.tileTemplate) return;
+    this.tileTemplate = template;
+    this.tileErrorShown = false;
+    this.map.getContainer().dataset.congestionTiles = template ?? '';
+    this.whenReady(() => {
+      if (template) (this.map.getSource(TILES) as maplibregl.RasterTileSource).setTiles([template]);
+      this.map.setLayoutProperty(TILES, 'visibility', template ? 'visible' : 'none');
+    });
   }
 
   /** The footprints of a result (null clears everything). */

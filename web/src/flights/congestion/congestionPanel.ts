@@ -6,7 +6,7 @@
 // map fits the volume, the time window becomes the hotspot's, the involved flights are drawn); the
 // separation events as a list and as markers (click: the clock jumps to the closest point of approach).
 
-import { ApiError, api, isAbort } from '../../api/client';
+import { ApiError, api, fetchOk, isAbort } from '../../api/client';
 import type { Job } from '../../api/types';
 import { h, mount, sectionHead } from '../../lib/dom';
 import { formatAltitude, formatDuration, formatFlightLevel, formatInt, formatUtc, formatUtcTime } from '../../lib/format';
@@ -30,7 +30,7 @@ import {
 import { parseResult } from './model';
 import { SeriesChart } from './seriesChart';
 import type { Compute, CongestionBody, Method } from './types';
-import { congestionBody } from './request';
+import { congestionBody, congestionTileTemplate } from './request';
 import './congestion.css';
 
 const FINISHED = new Set(['done', 'failed', 'cancelled']);
@@ -89,6 +89,10 @@ export class CongestionPanel {
   private hotspot: Hotspot | null = null;
   private rangeKey = '';
   private activeKey = '';
+  private readonly mapBox: HTMLElement;
+  private readonly mapToggle: HTMLInputElement;
+  private readonly mapThreshold: HTMLInputElement;
+  private readonly mapError: HTMLElement;
   private loadCtrl: AbortController | null = null;
   private tracksCtrl: AbortController | null = null;
 
@@ -101,6 +105,10 @@ export class CongestionPanel {
     this.layer = new CongestionLayer(deps.map.map, {
       onVolumeClick: (fp) => this.onFootprintClick(fp),
       onEventClick: (i) => this.selectEvent(i),
+      onTilesError: (detail) => {
+        this.mapError.textContent = `Congestion map: ${detail}`;
+        this.mapError.hidden = false;
+      },
     });
     this.chart = new SeriesChart((t) => this.seek(t));
 
@@ -160,6 +168,18 @@ export class CongestionPanel {
     this.hotspotList = h('ol', { class: 'cong-list', 'data-testid': 'cong-hotspots' });
     this.flightsBox = h('div', { class: 'cong-flights', 'data-testid': 'cong-flights' });
     this.sepList = h('ol', { class: 'cong-list', 'data-testid': 'cong-separation' });
+    this.mapToggle = h('input', { type: 'checkbox', id: 'cong-map', 'data-testid': 'cong-map-toggle' });
+    this.mapThreshold = h('input', { type: 'text', inputmode: 'decimal', id: 'cong-map-threshold', value: '1', 'aria-label': 'Congestion map threshold (aircraft per pixel)', 'data-testid': 'cong-map-threshold', class: 'cong-map-threshold' });
+    this.mapToggle.addEventListener('change', () => void this.checkTiles());
+    this.mapError = h('div', { class: 'error-text small', hidden: true, 'data-testid': 'cong-map-error' });
+    this.mapThreshold.addEventListener('change', () => this.syncTiles());
+    this.mapBox = h(
+      'div',
+      { class: 'cong-map-row small', title: 'The congestion map: aircraft per pixel at the clock (playback) or averaged over the time window, below the threshold transparent' },
+      h('label', { for: 'cong-map' }, this.mapToggle, ' Congestion map, from'),
+      this.mapThreshold,
+      h('span', { class: 'muted' }, 'aircraft / px'),
+    );
 
     root.append(
       sectionHead('Congestion', h('span', { class: 'section-meta' }, 'occupancy · hotspots · separation')),
@@ -170,6 +190,8 @@ export class CongestionPanel {
         h('label', { for: 'cong-volumes-sectors', title: 'An uploaded sector set' }, this.volumeMode.sectors, h('span', {}, 'Sectors')),
       ),
       this.sectorBox,
+      this.mapBox,
+      this.mapError,
       h('div', { class: 'cong-compute', role: 'group', 'aria-label': 'Compute' }, ...COMPUTE.map((c) => h('label', { title: c.title }, this.computeInputs.get(c.value)!, ` ${c.label}`))),
       h(
         'div',
@@ -193,9 +215,11 @@ export class CongestionPanel {
       if (s.datasetId !== prev.datasetId) this.reset();
       if (s.filters.t0 !== prev.filters.t0 || s.filters.t1 !== prev.filters.t1) this.refreshInstant();
       this.syncForm();
+      if (s.datasetId !== prev.datasetId || s.filters !== prev.filters) this.syncTiles();
     });
     deps.clock.subscribe((c, prev) => {
       if (c.t !== prev.t || c.span !== prev.span) this.refreshInstant();
+      if (c.t !== prev.t || c.playing !== prev.playing) this.syncTiles();
     });
     void this.loadSets();
     this.syncForm();
@@ -559,6 +583,55 @@ export class CongestionPanel {
   refresh(): void {
     this.rangeKey = '';
     this.refreshInstant();
+    this.syncTiles();
+  }
+
+  // ---------- the congestion map ----------
+
+  /**
+   * Turning the congestion map on asks for one tile first: MapLibre drops a tile's 404 silently, and an
+   * API error (a bad threshold, a server without the route) belongs next to the control.
+   */
+  private async checkTiles() {
+    this.mapError.hidden = true;
+    this.syncTiles();
+    const template = this.mapToggle.checked ? this.layer.congestionTiles() : null;
+    if (!template) return;
+    try {
+      await fetchOk(template.replace('{z}/{x}/{y}', '0/0/0'));
+    } catch (e) {
+      if (this.layer.congestionTiles() !== template) return;
+      this.mapToggle.checked = false;
+      this.syncTiles();
+      this.mapError.textContent = `Congestion map: ${e instanceof ApiError ? (e.status === 404 && e.param === 'path' ? 'not served by this server' : e.detail) : String(e)}`;
+      this.mapError.hidden = false;
+    }
+  }
+
+  /**
+   * The congestion map's tiles: at the clock while the playback view is open (whole minutes while it
+   * plays, so tiles are not asked for every frame), else over the time window (the data set's range
+   * without one).
+   */
+  private syncTiles() {
+    const d = this.deps.store.dataset();
+    const threshold = Number(this.mapThreshold.value);
+    const ok = d !== null && this.mapToggle.checked && threshold > 0;
+    this.mapThreshold.toggleAttribute('aria-invalid', !(threshold > 0));
+    if (!ok) {
+      this.layer.setCongestionTiles(null);
+      return;
+    }
+    const f = this.deps.store.get().filters;
+    const c = this.deps.clock.get();
+    let t: number | null = null;
+    const filters = { ...f };
+    if (this.deps.playbackOn() && Number.isFinite(c.t)) t = c.playing ? Math.floor(c.t / 60) * 60 : c.t;
+    else if (f.t0 === null || f.t1 === null) {
+      filters.t0 = Math.floor(d.t_min);
+      filters.t1 = Math.floor(d.t_max) + 1;
+    }
+    this.layer.setCongestionTiles(congestionTileTemplate(window.location.origin, d.id, filters, t, threshold));
   }
 
   private seek(t: number) {

@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { EMPTY_FILTERS } from '../../api/query';
-import { congestionBody, type RequestInput } from './request';
+import { congestionBody, congestionTileTemplate, type RequestInput } from './request';
 
 const base: RequestInput = {
   dataset: { id: 'europe', t_min: 1514764800.5, t_max: 1514851199.75 },
@@ -45,5 +45,15 @@ describe('congestionBody', () => {
     const b = congestionBody({ ...base, sectors: 's3', filters: { ...EMPTY_FILTERS, altMin: 100 }, fields: { peak: 'ten' } });
     expect(b.volumes).toEqual({ sectors: 's3' });
     expect(b.thresholds).toEqual({ peak: 'ten' });
+  });
+});
+
+describe('congestionTileTemplate', () => {
+  it('an instant, or the window, with the filters and the threshold', () => {
+    const f = { ...EMPTY_FILTERS, t0: 100, t1: 200, callsign: 'AFR*', altMin: 20000 };
+    expect(congestionTileTemplate('http://h', 'eu rope', f, 1514849999.5, 2)).toBe(
+      'http://h/api/v1/datasets/eu%20rope/congestion/tiles/{z}/{x}/{y}.png?t=1514849999.5&alt_min=20000&alt_unit=ft&callsign=AFR*&threshold=2',
+    );
+    expect(congestionTileTemplate('', 'e', f, null, 1)).toBe('/api/v1/datasets/e/congestion/tiles/{z}/{x}/{y}.png?t0=100&t1=200&alt_min=20000&alt_unit=ft&callsign=AFR*&threshold=1');
   });
 });

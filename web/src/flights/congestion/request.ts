@@ -59,3 +59,24 @@ export function congestionBody(r: RequestInput): CongestionBody {
   if (Object.keys(thresholds).length) body.thresholds = thresholds;
   return body;
 }
+
+/**
+ * The congestion map's tile template (GET /api/v1/datasets/{id}/congestion/tiles/{z}/{x}/{y}.png):
+ * aircraft per pixel at instant `t`, or averaged over the window [t0, t1) when `t` is null, with the
+ * callsign, ICAO24, altitude and ground filters, thresholded at `threshold` aircraft.
+ */
+export function congestionTileTemplate(origin: string, dataset: string, filters: Filters, t: number | null, threshold: number): string {
+  const q = new URLSearchParams();
+  if (t !== null) q.set('t', String(t));
+  else {
+    if (filters.t0 !== null) q.set('t0', String(filters.t0));
+    if (filters.t1 !== null) q.set('t1', String(filters.t1));
+  }
+  if (filters.altMin !== null) q.set('alt_min', String(filters.altMin));
+  if (filters.altMax !== null) q.set('alt_max', String(filters.altMax));
+  if (filters.altMin !== null || filters.altMax !== null) q.set('alt_unit', 'ft');
+  if (filters.callsign) q.set('callsign', filters.callsign);
+  if (filters.icao24) q.set('icao24', filters.icao24);
+  q.set('threshold', String(threshold));
+  return `${origin}/api/v1/datasets/${encodeURIComponent(dataset)}/congestion/tiles/{z}/{x}/{y}.png?${q.toString()}`;
+}
