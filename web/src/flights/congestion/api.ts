@@ -1,6 +1,7 @@
 // The congestion REST calls (proto/openapi.yaml): sector sets, starting a congestion job, its result.
 // Errors are api/client.ts's ApiError (the server's {error, detail, param}).
 
+import type { FeatureCollection } from 'geojson';
 import { fetchOk, request } from '../../api/client';
 import type { CongestionAccepted, CongestionBody, CongestionResultWire, SectorSet } from './types';
 
@@ -10,7 +11,7 @@ export const congestionApi = {
   sectorSets: (signal?: AbortSignal) => request<{ sectors: SectorSet[] }>('/api/v1/sectors', { signal }),
 
   /** The stored GeoJSON of a set, as uploaded. */
-  sectorGeojson: (id: string, signal?: AbortSignal) => request<GeoJSON.FeatureCollection>(sectorPath(id), { signal }),
+  sectorGeojson: (id: string, signal?: AbortSignal) => request<FeatureCollection>(sectorPath(id), { signal }),
 
   /** Uploads a GeoJSON FeatureCollection of sectors (validated by the server: 422 names the feature). */
   uploadSectors(file: Blob, name: string) {

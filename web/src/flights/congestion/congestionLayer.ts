@@ -4,7 +4,7 @@
 
 import type * as maplibregl from 'maplibre-gl';
 import type { FeatureCollection, LineString, Polygon } from 'geojson';
-import { CLASS_STYLE, type OccClass } from './model';
+import { CLASS_STYLE, cpaPoint, type Footprint, type OccClass } from './model';
 import type { SeparationEvent } from './types';
 
 const VOL = 'cong-volumes';
@@ -15,12 +15,6 @@ const SEP = 'cong-separation';
 const TILES = 'cong-map-tiles';
 const EMPTY: FeatureCollection = { type: 'FeatureCollection', features: [] };
 
-/** One footprint on the map: a cell column's rectangle or a sector's polygon. */
-export interface Footprint {
-  key: string;
-  ring: [number, number][];
-  sector: boolean;
-}
 
 export interface CongestionLayerEvents {
   onVolumeClick(footprint: string): void;
@@ -232,16 +226,4 @@ export class CongestionLayer {
       for (const id of ids) if (!prev.has(id)) this.map.setFeatureState({ source: SEP, id }, { active: true });
     });
   }
-}
-
-/** The middle of the two aircraft at the CPA ([lon, lat]; across 180° the short way). */
-export function cpaPoint(e: SeparationEvent): [number, number] {
-  const { a, b } = e.cpa;
-  let dl = b.lon - a.lon;
-  if (dl > 180) dl -= 360;
-  if (dl < -180) dl += 360;
-  let lon = a.lon + dl / 2;
-  if (lon >= 180) lon -= 360;
-  if (lon < -180) lon += 360;
-  return [lon, (a.lat + b.lat) / 2];
 }

@@ -14,7 +14,7 @@ import type { Clock } from '../clock';
 import type { MapView } from '../map';
 import type { Store } from '../state';
 import { congestionApi } from './api';
-import { CongestionLayer, cpaPoint, type Footprint } from './congestionLayer';
+import { CongestionLayer } from './congestionLayer';
 import {
   CLASS_STYLE,
   footprintStates,
@@ -26,6 +26,10 @@ import {
   type Hotspot,
   type HotspotOrder,
   type Volume,
+  cpaPoint,
+  gridFootprints,
+  sectorFootprints,
+  type Footprint,
 } from './model';
 import { parseResult } from './model';
 import { SeriesChart } from './seriesChart';
@@ -739,40 +743,4 @@ function periodEndOf(m: CongestionModel, k: number): number {
 
 function volumeLevels(v: Volume): string {
   return `${formatFlightLevel(v.lowerM)}–${formatFlightLevel(v.upperM)} (${formatAltitude(v.lowerM)}–${formatAltitude(v.upperM)})`;
-}
-
-/** One rectangle per grid column (the cells stacked over it share it). */
-export function gridFootprints(volumes: readonly Volume[]): Footprint[] {
-  const seen = new Set<string>();
-  const out: Footprint[] = [];
-  for (const v of volumes) {
-    if (seen.has(v.footprint)) continue;
-    seen.add(v.footprint);
-    const [w, s, e, n] = v.bbox;
-    out.push({
-      key: v.footprint,
-      sector: false,
-      ring: [
-        [w, s],
-        [e, s],
-        [e, n],
-        [w, n],
-        [w, s],
-      ],
-    });
-  }
-  return out;
-}
-
-/** The sectors' polygons from the stored GeoJSON, matched to the result's volumes by name. */
-export function sectorFootprints(fc: GeoJSON.FeatureCollection, volumes: readonly Volume[]): Footprint[] {
-  const byName = new Map(volumes.map((v) => [v.id, v]));
-  const out: Footprint[] = [];
-  for (const f of fc.features) {
-    const name = (f.properties as { name?: unknown } | null)?.name;
-    const v = typeof name === 'string' ? byName.get(name) : undefined;
-    if (!v || f.geometry.type !== 'Polygon') continue;
-    out.push({ key: v.footprint, sector: true, ring: f.geometry.coordinates[0]!.map((c) => [c[0]!, c[1]!] as [number, number]) });
-  }
-  return out;
 }

@@ -1,6 +1,10 @@
 import { describe, expect, it } from 'vitest';
+import type { FeatureCollection } from 'geojson';
 import {
   SparseSeries,
+  cpaPoint,
+  gridFootprints,
+  sectorFootprints,
   eventsAt,
   footprintStates,
   occupancyClass,
@@ -268,5 +272,46 @@ describe('CSV', () => {
     expect(() => parseSeriesCsv('volume,series,index,start,end,value\na,occupancy,1,2,3\n')).toThrow(/5 fields/);
     expect(() => parseSeriesCsv('volume,series,index,start,end,value\na,occupancy,x,2,3,4\n')).toThrow(/index/);
     expect(() => parseSeriesCsv('volume,series,index,start,end,value\na,density,1,2,3,4\n')).toThrow(/unknown series/);
+  });
+});
+
+describe('map geometry', () => {
+  const m = parseResult(wire);
+  it('one closed rectangle per grid column', () => {
+    const fps = gridFootprints(m.volumes);
+    expect(fps.map((f) => f.key)).toEqual([m.volumes[0]!.footprint, m.volumes[2]!.footprint]);
+    expect(fps[0]!.ring).toEqual([
+      [5, 45],
+      [5.47, 45],
+      [5.47, 45.33],
+      [5, 45.33],
+      [5, 45],
+    ]);
+  });
+  it('sector polygons matched by name, rings closed, other features skipped', () => {
+    const sec = parseResult({
+      ...wire,
+      volumes: { sectors: 's1' },
+      counts: {
+        ...wire.counts!,
+        volumes_kind: 'sectors',
+        volumes: [{ ...wire.counts!.volumes[0]!, id: 'EDYYUTA', kind: 'sector' }],
+        hotspots: [],
+      },
+    });
+    const fc: FeatureCollection = {
+      type: 'FeatureCollection',
+      features: [
+        { type: 'Feature', properties: { name: 'EDYYUTA' }, geometry: { type: 'Polygon', coordinates: [[[5, 45], [6, 45], [6, 46]]] } },
+        { type: 'Feature', properties: { name: 'OTHER' }, geometry: { type: 'Polygon', coordinates: [[[0, 0], [1, 0], [1, 1], [0, 0]]] } },
+      ],
+    };
+    expect(sectorFootprints(fc, sec.volumes)).toEqual([{ key: 'sector:EDYYUTA', sector: true, ring: [[5, 45], [6, 45], [6, 46], [5, 45]] }]);
+  });
+  it('the CPA marker is midway between the aircraft, the short way across 180°', () => {
+    const ev = (alon: number, blon: number) => ({ cpa: { a: { lat: 10, lon: alon, alt_m: 0 }, b: { lat: 12, lon: blon, alt_m: 0 } } }) as SeparationEvent;
+    expect(cpaPoint(ev(1, 3))).toEqual([2, 11]);
+    expect(cpaPoint(ev(179.9, -179.9))).toEqual([-180, 11]);
+    expect(cpaPoint(ev(-179.8, 179.9))[0]).toBeCloseTo(-179.95, 9);
   });
 });

@@ -3,6 +3,7 @@
 // of an occupancy against its thresholds, the ranking of hotspots, and the CSV tables parsed back.
 // The definitions of the counts are in compute/include/trailscope/congestion/counts.hpp.
 
+import type { FeatureCollection } from 'geojson';
 import type { CongestionResultWire, HotspotKind, SeparationEvent, WireHotspot, WireSeries, WireVolume } from './types';
 
 // ---------- sparse series ----------
@@ -267,6 +268,67 @@ export function footprintStates(m: CongestionModel, range: [number, number] | nu
     }
   });
   return out;
+}
+
+// ---------- map geometry ----------
+
+/** One footprint on the map: a cell column's rectangle or a sector's polygon ([lon, lat], closed). */
+export interface Footprint {
+  key: string;
+  ring: [number, number][];
+  sector: boolean;
+}
+
+/** One rectangle per grid column (the cells stacked over it share it). */
+export function gridFootprints(volumes: readonly Volume[]): Footprint[] {
+  const seen = new Set<string>();
+  const out: Footprint[] = [];
+  for (const v of volumes) {
+    if (seen.has(v.footprint)) continue;
+    seen.add(v.footprint);
+    const [w, s, e, n] = v.bbox;
+    out.push({
+      key: v.footprint,
+      sector: false,
+      ring: [
+        [w, s],
+        [e, s],
+        [e, n],
+        [w, n],
+        [w, s],
+      ],
+    });
+  }
+  return out;
+}
+
+/** The sectors' polygons from the stored GeoJSON, matched to the result's volumes by name. */
+export function sectorFootprints(fc: FeatureCollection, volumes: readonly Volume[]): Footprint[] {
+  const byName = new Map(volumes.map((v) => [v.id, v]));
+  const out: Footprint[] = [];
+  for (const f of fc.features) {
+    const name = (f.properties as { name?: unknown } | null)?.name;
+    const v = typeof name === 'string' ? byName.get(name) : undefined;
+    if (!v || f.geometry.type !== 'Polygon') continue;
+    const ring = f.geometry.coordinates[0]!.map((c) => [c[0]!, c[1]!] as [number, number]);
+    // The upload may leave the ring open (the server's parser accepts both); the map needs it closed.
+    const [a, z] = [ring[0], ring[ring.length - 1]];
+    if (a && z && (a[0] !== z[0] || a[1] !== z[1])) ring.push([a[0], a[1]]);
+    out.push({ key: v.footprint, sector: true, ring });
+  }
+  return out;
+}
+
+/** The middle of the two aircraft at the CPA ([lon, lat]; across 180° the short way). */
+export function cpaPoint(e: SeparationEvent): [number, number] {
+  const { a, b } = e.cpa;
+  let dl = b.lon - a.lon;
+  if (dl > 180) dl -= 360;
+  if (dl < -180) dl += 360;
+  let lon = a.lon + dl / 2;
+  if (lon >= 180) lon -= 360;
+  if (lon < -180) lon += 360;
+  return [lon, (a.lat + b.lat) / 2];
 }
 
 // ---------- hotspots ----------
