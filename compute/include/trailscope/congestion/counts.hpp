@@ -55,10 +55,13 @@
 //     headings differ by more than heading_deg (20°), their vertical attitudes (climbing: vertical
 //     rate > +vrate_fpm, descending: < -vrate_fpm, cruising otherwise; 500 ft/min) differ, or their
 //     ground speeds differ by more than speed_kt (35 kt). The thresholds are the PRU report's.
-//     Heading, ground speed and vertical rate are those of the segment being flown (constant along a
-//     segment of the linear trajectory): heading atan2(Δlon·cos φm, Δlat) with φm the segment's middle
-//     latitude, speed from the same local flat metric (1° of latitude = 60 NM) over Δt, vertical rate
-//     Δalt/Δt; they are not the samples' reported track, speed and rate;
+//     Heading, ground speed and vertical rate are those of the flight's VISIT of the volume (a maximal
+//     interval of its inside set): heading atan2(Δlon·cos φm, Δlat) from the entry point to the exit
+//     point (φm their mean latitude; no horizontal interaction when they coincide), speed = the
+//     visit's path length in the same local flat metric (1° of latitude = 60 NM) over its duration,
+//     vertical rate = Δalt / duration. They are not the samples' reported track, speed and rate;
+//     one attitude per visit is what a controller sees of a flight crossing a 20 NM cell (a visit
+//     lasts ~2-3 min at cruise speed);
 //   - adjusted_density = 60 · interaction_hours / flight_hours (minutes of interaction per flight
 //     hour, the PRU's unit); structural_index = (horizontal + vertical + speed hours) /
 //     interaction_hours (0 when there is no interaction), in [0, 3];
@@ -196,8 +199,8 @@ struct CountsResult {
   std::uint32_t steps = 0, entry_windows = 0, hours = 0;  ///< K, J, H
   std::uint32_t flights = 0;  ///< flights selected by the query's flight filters that overlap [t0, t1)
   /// Sectors: every sector, in request order. Grid: the cells of the extent with at least one flight
-  /// inside at some instant of [t0, t1) (one sample inside in [t0, t1) for method=samples), ordered by
-  /// (row, col, layer).
+  /// inside at some instant of [t0, t1) (method=samples: one sample inside in [t0, t1), or a complexity
+  /// row), ordered by (row, col, layer).
   std::vector<VolumeResult> volumes;
   /// By excess (descending), then start, volume, kind; at most limits::kMaxHotspots (the largest).
   std::vector<Hotspot> hotspots;

@@ -146,8 +146,8 @@ inline constexpr std::uint64_t kMaxGridCells = 10'000'000;
 /// Most non-zero series values plus complexity rows in one answer (~12 bytes each in memory, ~20 in
 /// JSON): the Europe SO6 day on the grid at 1-min periods gives about 2.5M.
 inline constexpr std::size_t kMaxCongestionResultValues = 20'000'000;
-/// Most inside pieces (a flight in a volume during part of one segment) one count keeps for the
-/// complexity score (~32 bytes each).
+/// Most volume visits (a flight's maximal stay in one volume) one count keeps (~100 bytes each while
+/// counting); the Europe SO6 day on the grid has about 0.7M.
 inline constexpr std::size_t kMaxCongestionPieces = 40'000'000;
 /// Most hotspots listed in one answer (the largest excesses; all are counted).
 inline constexpr std::size_t kMaxHotspots = 10'000;
