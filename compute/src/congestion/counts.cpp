@@ -1,6 +1,7 @@
 #include "trailscope/congestion/counts.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -142,8 +143,9 @@ struct SectorBox {
 // One flight: its inside sets as visits, in time order per volume.
 class FlightScan {
  public:
-  FlightScan(const CountsRequest& r, const GridExtent* extent, const std::vector<SectorBox>& boxes)
-      : r_(r), extent_(extent), boxes_(boxes) {}
+  FlightScan(const CountsRequest& r, const GridExtent* extent, const std::vector<SectorBox>& boxes,
+             const std::vector<std::array<int, 4>>* columns)
+      : r_(r), extent_(extent), boxes_(boxes), columns_(columns) {}
 
   std::vector<Visit> visits;  // closed visits, in the order they end
 
@@ -160,7 +162,7 @@ class FlightScan {
   std::uint64_t cell_of(const Pos& p) const {
     if (!(p.alt == p.alt)) return kNoKey;
     const GridCell c = grid_cell_at(std::clamp(p.lat, -90.0, 90.0), std::clamp(p.lon, -180.0, 180.0), p.alt);
-    return extent_->contains(c) ? cell_key(c) : kNoKey;
+    return in_extent(c) ? cell_key(c) : kNoKey;
   }
   // The same without the extent: the cell holding p, kNoKey only for an unknown altitude.
   std::uint64_t raw_cell_of(const Pos& p) const {
@@ -192,6 +194,15 @@ class FlightScan {
  private:
   const CountsRequest& r_;
   const GridExtent* extent_;
+  // Per row of the grid, the extent's column ranges [a, b] and [c, d] (GridExtent::contains, cached).
+  const std::vector<std::array<int, 4>>* columns_;
+  bool in_extent(const GridCell& c) const {
+    if (c.row < extent_->row_min || c.row > extent_->row_max || c.layer < extent_->layer_min ||
+        c.layer > extent_->layer_max)
+      return false;
+    const auto& r = (*columns_)[static_cast<std::size_t>(c.row)];
+    return (c.col >= r[0] && c.col <= r[1]) || (c.col >= r[2] && c.col <= r[3]);
+  }
   const std::vector<SectorBox>& boxes_;
   std::vector<Visit> open_;
   std::vector<double> us_;
@@ -598,7 +609,21 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   const double vrate_thr = r.complexity_params.vrate_fpm;
 
   tbb::enumerable_thread_specific<Acc> accs;
-  tbb::enumerable_thread_specific<FlightScan> scans([&] { return FlightScan(r, ext, boxes); });
+  // The extent's columns per row (GridExtent::contains's rule: the columns meeting the bbox's
+  // longitudes, two runs when it crosses 180°), cached for the inner loop.
+  std::vector<std::array<int, 4>> columns(kGridRows, std::array<int, 4>{1, 0, 1, 0});
+  if (ext)
+    for (int row = ext->row_min; row <= ext->row_max; ++row) {
+      const double lat = -90.0 + (row + 0.5) / 3.0;
+      const int n = grid_columns(row);
+      const auto col = [&](double lon) { return grid_cell_at(lat, lon, 0).col; };
+      auto& c = columns[static_cast<std::size_t>(row)];
+      if (ext->bbox.west <= ext->bbox.east)
+        c = {col(ext->bbox.west), ext->bbox.east >= 180 ? n - 1 : col(ext->bbox.east), 1, 0};
+      else
+        c = {col(ext->bbox.west), n - 1, 0, col(ext->bbox.east)};
+    }
+  tbb::enumerable_thread_specific<FlightScan> scans([&] { return FlightScan(r, ext, boxes, &columns); });
   std::atomic<std::size_t> total_visits{0};
 
   const auto pos_of = [&](std::size_t i) { return Pos{pts.lon[i], pts.lat[i], pts.alt[i]}; };
@@ -780,16 +805,30 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   // Occupancy and entries: a sweep over +1/-1 events per volume.
   std::size_t values = 0;
   std::vector<std::pair<std::uint32_t, int>> ev;
+  std::vector<int> diff;
   const auto sweep = [&](Series& out) {
-    std::sort(ev.begin(), ev.end());
-    int c = 0;
-    for (std::size_t e = 0; e < ev.size();) {
-      const std::uint32_t at = ev[e].first;
-      while (e < ev.size() && ev[e].first == at) c += ev[e++].second;
-      const std::uint32_t next = e < ev.size() ? ev[e].first : at;
-      if (c > 0)
-        for (std::uint32_t k = at; k < next; ++k)
-          out.index.push_back(k), out.value.push_back(static_cast<std::uint32_t>(c));
+    std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
+    for (const auto& [at, d] : ev) lo = std::min(lo, at), hi = std::max(hi, at);
+    if (!ev.empty() && hi - lo <= 8 * ev.size()) {
+      // A difference array over the events' span: O(events + span), no sort.
+      diff.assign(hi - lo + 1, 0);
+      for (const auto& [at, d] : ev) diff[at - lo] += d;
+      int c = 0;
+      for (std::uint32_t k = lo; k < hi; ++k) {
+        c += diff[k - lo];
+        if (c > 0) out.index.push_back(k), out.value.push_back(static_cast<std::uint32_t>(c));
+      }
+    } else {
+      std::sort(ev.begin(), ev.end());
+      int c = 0;
+      for (std::size_t e = 0; e < ev.size();) {
+        const std::uint32_t at = ev[e].first;
+        while (e < ev.size() && ev[e].first == at) c += ev[e++].second;
+        const std::uint32_t next = e < ev.size() ? ev[e].first : at;
+        if (c > 0)
+          for (std::uint32_t k = at; k < next; ++k)
+            out.index.push_back(k), out.value.push_back(static_cast<std::uint32_t>(c));
+      }
     }
     values += out.index.size();
     if (values > limits::kMaxCongestionResultValues)

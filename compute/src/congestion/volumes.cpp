@@ -245,14 +245,28 @@ nlohmann::json sectors_to_geojson(const std::vector<Sector>& sectors) {
 
 // --- grid ------------------------------------------------------------------------------------------
 
-double grid_column_width(int row) {
-  const double mid = (-90.0 + (row + 0.5) / 3.0) * std::numbers::pi / 180.0;
-  return (1.0 / 3.0) / std::cos(mid);
+namespace {
+// Widths and column counts of every row, computed once (each cell lookup needs its row's).
+struct RowTable {
+  double width[kGridRows];
+  int columns[kGridRows];
+  RowTable() {
+    for (int r = 0; r < kGridRows; ++r) {
+      const double mid = (-90.0 + (r + 0.5) / 3.0) * std::numbers::pi / 180.0;
+      width[r] = (1.0 / 3.0) / std::cos(mid);
+      columns[r] = static_cast<int>(std::ceil(360.0 / width[r]));
+    }
+  }
+};
+const RowTable& rows() {
+  static const RowTable t;
+  return t;
 }
+}  // namespace
 
-int grid_columns(int row) {
-  return static_cast<int>(std::ceil(360.0 / grid_column_width(row)));
-}
+double grid_column_width(int row) { return rows().width[row]; }
+
+int grid_columns(int row) { return rows().columns[row]; }
 
 namespace {
 int row_of(double lat) {
