@@ -116,6 +116,7 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxProjectionIterations", double(L::kMaxProjectionIterations)},
       {"kMaxQualitySample", double(L::kMaxQualitySample)},
       {"kMaxQualityK", double(L::kMaxQualityK)},
+      {"kMaxSeparationEvents", double(L::kMaxSeparationEvents)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

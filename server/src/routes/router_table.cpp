@@ -101,6 +101,9 @@ Router make_router(App& app) {
   r.add("POST", "/api/v1/replays", bind(create_replay));             // 201 400 404 409
   r.add("GET", "/api/v1/replays/{replay}", bind(get_replay));        // 200 404
   r.add("DELETE", "/api/v1/replays/{replay}", bind(delete_replay));  // 204 404
+  // The congestion map of simultaneous aircraft (routes/congestion_tiles.cpp).
+  r.add("GET", "/api/v1/datasets/{dataset}/congestion/tiles/{z}/{x}/{y}.png",
+        bind(congestion_tile));  // 200 304 400 404
   // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });
