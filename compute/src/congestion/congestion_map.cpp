@@ -210,7 +210,7 @@ density::Raster aircraft_per_pixel(const TrailSet& set, const Query& q, const de
   return r;
 }
 
-void validate(const CongestionTileRequest& r) {
+void validate(const CongestionTileRequest& r, const Query& q) {
   geo::validate_tile(r.tile);
   if (r.size != limits::kTileSizeSmall && r.size != limits::kTileSizeLarge)
     throw invalid_argument("size", "size must be " + std::to_string(limits::kTileSizeSmall) + " or " +
@@ -222,10 +222,11 @@ void validate(const CongestionTileRequest& r) {
   if (r.how == density::How::eq_hist)
     throw invalid_argument("how", "how: a congestion tile is shaded 'linear' or 'log' (a fixed span)");
   density::colormap(r.cmap, "cmap");
+  check_mode(q, r.t);
 }
 
 CongestionTile render_congestion_tile(const TrailSet& set, const Query& q, const CongestionTileRequest& r) {
-  validate(r);
+  validate(r, q);
   const density::Canvas canvas = density::Canvas::for_tile(r.tile, r.size);
   density::Raster raster = aircraft_per_pixel(set, q, canvas, r.t);
   CongestionTile out;

@@ -68,9 +68,10 @@ struct CongestionTile {
   std::size_t pixels_above = 0;  ///< pixels at or above the threshold
 };
 
-/// Checks a request without rendering: tile and size (as the density tiles), threshold, vmax, how and
-/// cmap. Throws invalid_argument naming "z", "x", "y", "size", "threshold", "vmax", "how" or "cmap".
-void validate(const CongestionTileRequest& r);
+/// Checks a request and its query without rendering: tile and size (as the density tiles), threshold,
+/// vmax, how, cmap, and the instant or window as aircraft_per_pixel() does. Throws invalid_argument naming
+/// "z", "x", "y", "size", "threshold", "vmax", "how", "cmap", "t", "t0" or "t1".
+void validate(const CongestionTileRequest& r, const Query& q);
 
 /// The thresholded congestion tile. Throws what validate() and aircraft_per_pixel() throw.
 CongestionTile render_congestion_tile(const TrailSet& set, const Query& q, const CongestionTileRequest& r);
