@@ -128,9 +128,10 @@ struct CountsRequest {
 /// invalid_argument naming the parameter: "t0" / "t1" (missing, t1 <= t0, span above the limit),
 /// "step", "duration", "entry_window", "entry_step", "peak", "sustained", "sustained_steps",
 /// "heading_deg", "speed_kt", "vrate_fpm", "bbox" / "alt_min" / "alt_max" (with sectors, or out of
-/// range), "on_ground"; Error(payload_too_large, "step") when K or J exceeds
-/// limits::kMaxCongestionSteps, Error(payload_too_large, "bbox") when the grid extent has more than
-/// limits::kMaxGridCells cells, Error(payload_too_large, "sectors") above limits::kMaxSectors.
+/// range), "on_ground"; Error(payload_too_large, "step") when K, or Error(payload_too_large,
+/// "entry_step") when J, exceeds limits::kMaxCongestionSteps, Error(payload_too_large, "bbox") when the grid
+/// extent has more than limits::kMaxGridCells cells, Error(payload_too_large, "sectors") above
+/// limits::kMaxSectors.
 void validate(const CountsRequest& r);
 
 /// Builds the non-volume part of a request from string parameters (a URL query, CLI flags):
