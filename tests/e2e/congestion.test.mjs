@@ -201,6 +201,25 @@ await test('losses of separation: the list equals the API, a click moves the clo
   await page.screenshot({ path: path.join(ARTIFACTS, 'congestion-separation.png') });
 });
 
+await test('the congestion map: tiles of aircraft per pixel at the clock, under the volumes', async () => {
+  const tileResponses = [];
+  const onResponse = (r) => r.url().includes('/congestion/tiles/') && tileResponses.push(r.status());
+  page.on('response', onResponse);
+  await page.fill(sel('cong-map-threshold'), '1');
+  await page.check(sel('cong-map-toggle'));
+  await page.waitForFunction(() => document.querySelector('[data-testid="map"]')?.dataset.congestionTiles);
+  await mapIdle();
+  page.off('response', onResponse);
+  const template = await page.getAttribute(sel('map'), 'data-congestion-tiles');
+  const t = await page.evaluate(() => window.trailscope.clock.get().t);
+  const q = new URL(template.replace('{z}/{x}/{y}', '0/0/0')).searchParams;
+  assertEqual(Number(q.get('t')), t, 'tiles at the clock (paused: the exact instant)');
+  assertEqual(q.get('threshold'), '1', 'threshold');
+  assert(await page.locator(sel('cong-map-error')).isHidden(), `no error: ${await page.textContent(sel('cong-map-error'))}`);
+  assert(tileResponses.length > 0 && tileResponses.every((st) => st === 200 || st === 304), `tiles answered: ${tileResponses.join(',')}`);
+  await page.screenshot({ path: path.join(ARTIFACTS, 'congestion-map.png') });
+});
+
 await test('no request left the machine, no page errors', async () => {
   const outside = requests.filter(leavesMachine);
   assertEqual(outside.length, 0, `requests leaving the machine: ${outside.slice(0, 3).join(', ')}`);
