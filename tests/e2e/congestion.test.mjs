@@ -45,6 +45,8 @@ const consoleErrors = [];
 context.on('request', (r) => requests.push(r.url()));
 page.on('websocket', (ws) => requests.push(ws.url()));
 recordErrors(page, consoleErrors);
+const failedResponses = [];
+page.on('response', (r) => r.status() >= 400 && failedResponses.push(`${r.status()} ${r.url()}`));
 const state = { window: null, job: null, api: null, hotspot: null };
 const panel = (attr) => page.getAttribute(sel('congestion-panel'), attr);
 
@@ -223,7 +225,7 @@ await test('the congestion map: tiles of aircraft per pixel at the clock, under 
 await test('no request left the machine, no page errors', async () => {
   const outside = requests.filter(leavesMachine);
   assertEqual(outside.length, 0, `requests leaving the machine: ${outside.slice(0, 3).join(', ')}`);
-  assertEqual(consoleErrors.length, 0, `page errors: ${consoleErrors.slice(0, 3).join(' | ')}`);
+  assertEqual(consoleErrors.length, 0, `page errors: ${consoleErrors.slice(0, 3).join(' | ')} (failed responses: ${failedResponses.slice(0, 3).join(', ')})`);
 });
 
 await finish(browser);
