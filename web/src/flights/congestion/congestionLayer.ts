@@ -61,7 +61,7 @@ export class CongestionLayer {
         source: VOL,
         paint: {
           'fill-color': ['match', cls, ...colors, 'rgba(0,0,0,0)'] as unknown as maplibregl.ExpressionSpecification,
-          'fill-opacity': ['match', cls, 'peak', 0.7, 'sustained', 0.6, 'near', 0.5, 'low', 0.35, 'count', 0.35, 0],
+          'fill-opacity': ['match', cls, 'peak', 0.7, 'sustained', 0.6, 'near', 0.45, 'low', 0.2, 'count', 0.2, 0],
         },
       },
       before,
