@@ -86,8 +86,11 @@ struct Acc {
   std::vector<StepRange> ranges;
   std::vector<EntryRange> entries;
   std::vector<CVisit> cvisits;
-  std::vector<std::uint64_t> present;
+  std::vector<std::uint64_t> present;  // volumes met in [t0, t1) that no period range names
   std::uint32_t flights = 0;
+  // Per-flight scratch, reused.
+  std::vector<StepRange> local;
+  std::vector<std::uint64_t> prev, cur;
 };
 
 struct Timing {
@@ -640,9 +643,8 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
     if (i0 > f.begin) --i0;
     std::size_t i1 = f.begin + static_cast<std::size_t>(std::lower_bound(tb, te, t1) - tb);
     if (i1 < f.end) ++i1;  // [i0, i1)
-    const std::size_t ranges_from = acc.ranges.size();
-    std::vector<StepRange> local;
-    local.reserve(64);
+    std::vector<StepRange>& local = acc.local;
+    local.clear();
 
     if (need_visits) {
       scan.reset();
@@ -665,8 +667,10 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
         const bool meets = tm.periods(v.a, v.b, v.cb, k0, k1);
         if (!(v.a < t1) || v.b < t0 || (v.b == t0 && !v.cb)) continue;  // not in [t0, t1)
         if (interpolated) {
-          acc.present.push_back(v.key);
-          if (meets) local.push_back({v.key, fi, k0, k1});
+          if (meets)
+            local.push_back({v.key, fi, k0, k1});
+          else
+            acc.present.push_back(v.key);
           std::uint32_t j0, j1;
           if (tm.windows(v.a, j0, j1)) acc.entries.push_back({v.key, j0, j1});
         }
@@ -687,14 +691,15 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
             const double vrate = (v.pb.alt - v.pa.alt) / kMetresPerFoot / (dt / 60.0);
             acc.cvisits.push_back(
                 {v.key, fi, a, b, heading, static_cast<float>(speed), attitude(vrate, vrate_thr)});
-            if (!interpolated) acc.present.push_back(v.key);  // its complexity rows need the volume
           }
         }
       }
     }
     if (!interpolated) {
       // method = samples: the volumes holding each sample.
-      std::vector<std::uint64_t> prev, cur;
+      std::vector<std::uint64_t>& prev = acc.prev;
+      std::vector<std::uint64_t>& cur = acc.cur;
+      prev.clear();
       bool have_prev = false;
       for (std::size_t i = i0; i < i1; ++i) {
         const double t = pts.t[i];
@@ -712,9 +717,11 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
         }
         if (t >= t0) {
           for (std::uint64_t k : cur) {
-            acc.present.push_back(k);
             std::uint32_t k0, k1;
-            if (tm.periods(t, t, true, k0, k1)) local.push_back({k, fi, k0, k1});
+            if (tm.periods(t, t, true, k0, k1))
+              local.push_back({k, fi, k0, k1});
+            else
+              acc.present.push_back(k);
             const bool entered =
                 i == f.begin || !have_prev || std::find(prev.begin(), prev.end(), k) == prev.end();
             std::uint32_t j0, j1;
@@ -726,7 +733,6 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
       }
     }
     merge_ranges(local, 0, acc.ranges);
-    (void)ranges_from;
   };
 
   // Flights in blocks, so that progress and cancellation are reported from this thread.
@@ -766,6 +772,9 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   });
   tbb::parallel_sort(entries.begin(), entries.end(),
                      [](const EntryRange& x, const EntryRange& y) { return x.key < y.key; });
+  tbb::parallel_sort(cvisits.begin(), cvisits.end(), [](const CVisit& x, const CVisit& y) {
+    return x.key != y.key ? x.key < y.key : x.a < y.a;
+  });
 
   // Volumes.
   res.t0 = t0, res.t1 = t1, res.step_s = r.step_s, res.duration_s = r.duration_s;
@@ -773,6 +782,11 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   res.grid = grid, res.steps = tm.K, res.entry_windows = tm.J, res.hours = tm.H;
   std::vector<std::uint64_t> keys;
   if (grid) {
+    // Cells with a period range, with complexity rows, or met between periods (step > duration).
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      if (i == 0 || ranges[i].key != ranges[i - 1].key) present.push_back(ranges[i].key);
+    for (std::size_t i = 0; i < cvisits.size(); ++i)
+      if (i == 0 || cvisits[i].key != cvisits[i - 1].key) present.push_back(cvisits[i].key);
     tbb::parallel_sort(present.begin(), present.end());
     present.erase(std::unique(present.begin(), present.end()), present.end());
     keys = std::move(present);
@@ -929,9 +943,6 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
       std::uint32_t hour;
       std::uint32_t vi;  // index into cvisits
     };
-    tbb::parallel_sort(cvisits.begin(), cvisits.end(), [](const CVisit& x, const CVisit& y) {
-      return x.key != y.key ? x.key < y.key : x.a < y.a;
-    });
     std::vector<std::size_t> starts;
     for (std::size_t i = 0; i < cvisits.size(); ++i)
       if (i == 0 || cvisits[i].key != cvisits[i - 1].key) starts.push_back(i);
