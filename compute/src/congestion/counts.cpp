@@ -162,14 +162,17 @@ class FlightScan {
   }
 
   // The key of a position (grid), kNoKey when outside the extent or the altitude is unknown.
+  // An altitude the grid can place: known and within ±1,000 km (grid_cell_at refuses beyond ±10,000 km;
+  // anything past the first is a damaged sample, not an aircraft).
+  static bool usable(double alt) { return std::fabs(alt) <= 1e6; }
   std::uint64_t cell_of(const Pos& p) const {
-    if (!(p.alt == p.alt)) return kNoKey;
+    if (!usable(p.alt)) return kNoKey;
     const GridCell c = grid_cell_at(std::clamp(p.lat, -90.0, 90.0), std::clamp(p.lon, -180.0, 180.0), p.alt);
     return in_extent(c) ? cell_key(c) : kNoKey;
   }
   // The same without the extent: the cell holding p, kNoKey only for an unknown altitude.
   std::uint64_t raw_cell_of(const Pos& p) const {
-    if (!(p.alt == p.alt)) return kNoKey;
+    if (!usable(p.alt)) return kNoKey;
     return cell_key(grid_cell_at(std::clamp(p.lat, -90.0, 90.0), std::clamp(p.lon, -180.0, 180.0), p.alt));
   }
   bool sector_holds(std::size_t s, const Pos& p) const {
@@ -260,8 +263,7 @@ class FlightScan {
   }
 
   void grid_segment(const Seg& s, bool first) {
-    const bool alt_known = s.p0.alt == s.p0.alt && s.p1.alt == s.p1.alt;
-    if (!alt_known) return;
+    if (!usable(s.p0.alt) || !usable(s.p1.alt)) return;
     if (raw_cell_of(s.p0) == raw_cell_of(s.p1)) {
       // A half-open box is convex: both ends in one cell means the whole segment is.
       add(cell_of(s.p0), s.ta, s.tb, true, true, s.p0, s.p1);
