@@ -782,12 +782,12 @@ int main(int argc, char** argv) {
       body << "\n";
     }
 
-    // ---- 9. congestion counts (congestion_bench) ----------------------------------------------------
+    // ---- 10. congestion counts (congestion_bench) ----------------------------------------------------
     if (const json* full = find1("congestion", {{"impl", "trailscope"}, {"case", "grid_full"}})) {
       const json* smp = find1("congestion", {{"impl", "trailscope"}, {"case", "grid_samples"}});
       const json* ch = find1("congestion", {{"impl", "clickhouse"}});
       body
-          << "## 9. Congestion counts\n\n"
+          << "## 10. Congestion counts\n\n"
              "`congestion_bench` on the Europe SO6 day ("
           << grouped(full, "flights")
           << " flights), the whole day on the 20 NM × 20 NM × 3,000 ft grid (world extent, 0-60,000 ft), "
@@ -808,7 +808,7 @@ int main(int argc, char** argv) {
              << (r->contains("complexity_score") ? num(dbl(r, "complexity_score"), 2) : "–") << " |\n";
       }
       const bool fast = dbl(full, "ms_p50") < 2000;
-      targets.push_back({"9", "congestion: occupancy + entries + complexity, Europe day, grid", "< 2 s",
+      targets.push_back({"10", "congestion: occupancy + entries + complexity, Europe day, grid", "< 2 s",
                          ms(full, "ms_p50") + " ms", fast});
       if (ch) {
         const bool equal = ch->value("equal", false);
@@ -825,7 +825,7 @@ int main(int argc, char** argv) {
              << ms(ch, "clickhouse_server_ms_p50") << " ms | " << ms(ch, "trailscope_ms_p50") << " ms | "
              << ratio(r) << " | " << grouped(ch, "rows") << " | "
              << (equal ? "yes" : "**no** (" + str(ch, "mismatches") + " differ)") << " |\n\n";
-        targets.push_back({"9",
+        targets.push_back({"10",
                            "congestion occupancy vs ClickHouse (same counts, equal: " +
                                std::string(equal ? "yes" : "no") + ")",
                            "≥ 3×", ratio(r), equal && r >= 3});
