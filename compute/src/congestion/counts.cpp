@@ -762,6 +762,12 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   std::vector<CVisit> cvisits;
   std::vector<std::uint64_t> present;
   CountsResult res;
+  {
+    std::size_t nr = 0, ne = 0, nc = 0, np = 0;
+    for (auto& a : accs)
+      nr += a.ranges.size(), ne += a.entries.size(), nc += a.cvisits.size(), np += a.present.size();
+    ranges.reserve(nr), entries.reserve(ne), cvisits.reserve(nc), present.reserve(np);
+  }
   for (auto& a : accs) {
     ranges.insert(ranges.end(), a.ranges.begin(), a.ranges.end());
     entries.insert(entries.end(), a.entries.begin(), a.entries.end());
