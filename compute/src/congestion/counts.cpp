@@ -825,10 +825,15 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   if (progress) progress(0.0, "counts");
 
   // Occupancy and entries: a sweep over +1/-1 events per volume.
-  std::size_t values = 0;
-  std::vector<std::pair<std::uint32_t, int>> ev;
-  std::vector<int> diff;
-  const auto sweep = [&](Series& out) {
+  struct SweepScratch {
+    std::vector<std::pair<std::uint32_t, int>> ev;
+    std::vector<int> diff;
+  };
+  tbb::enumerable_thread_specific<SweepScratch> scratch;
+  // One volume's series from its +1/-1 events.
+  const auto sweep = [](SweepScratch& sc, Series& out) {
+    auto& ev = sc.ev;
+    auto& diff = sc.diff;
     std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
     for (const auto& [at, d] : ev) lo = std::min(lo, at), hi = std::max(hi, at);
     if (!ev.empty() && hi - lo <= 8 * ev.size()) {
@@ -852,39 +857,44 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
             out.index.push_back(k), out.value.push_back(static_cast<std::uint32_t>(c));
       }
     }
-    values += out.index.size();
-    if (values > limits::kMaxCongestionResultValues)
-      throw Error(Error::Kind::payload_too_large, too_big_param,
-                  "the answer would hold more than " + std::to_string(limits::kMaxCongestionResultValues) +
-                      " values; narrow the window, the extent or use a longer step");
+  };
+  // Groups of equal keys in a key-sorted vector.
+  const auto groups = [](const auto& v) {
+    std::vector<std::size_t> g;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (i == 0 || v[i].key != v[i - 1].key) g.push_back(i);
+    g.push_back(v.size());
+    return g;
   };
   std::vector<std::size_t> range_begin(keys.size() + 1, ranges.size());
-  for (std::size_t i = 0, vi = 0; i < ranges.size();) {
-    const std::uint64_t key = ranges[i].key;
-    vi = volume_of(key);
-    std::size_t e = i;
-    ev.clear();
-    while (e < ranges.size() && ranges[e].key == key) {
-      ev.push_back({ranges[e].k0, 1});
-      ev.push_back({ranges[e].k1 + 1, -1});
-      ++e;
+  const auto rg = groups(ranges);
+  const auto eg = groups(entries);
+  tbb::parallel_for(std::size_t(0), rg.size() - 1, [&](std::size_t g) {
+    SweepScratch& sc = scratch.local();
+    sc.ev.clear();
+    for (std::size_t e = rg[g]; e < rg[g + 1]; ++e) {
+      sc.ev.push_back({ranges[e].k0, 1});
+      sc.ev.push_back({ranges[e].k1 + 1, -1});
     }
-    range_begin[vi] = i;
-    sweep(res.volumes[vi].occupancy);
-    i = e;
-  }
-  for (std::size_t i = 0; i < entries.size();) {
-    const std::uint64_t key = entries[i].key;
-    std::size_t e = i;
-    ev.clear();
-    while (e < entries.size() && entries[e].key == key) {
-      ev.push_back({entries[e].j0, 1});
-      ev.push_back({entries[e].j1 + 1, -1});
-      ++e;
+    const std::size_t vi = volume_of(ranges[rg[g]].key);
+    range_begin[vi] = rg[g];
+    sweep(sc, res.volumes[vi].occupancy);
+  });
+  tbb::parallel_for(std::size_t(0), eg.size() - 1, [&](std::size_t g) {
+    SweepScratch& sc = scratch.local();
+    sc.ev.clear();
+    for (std::size_t e = eg[g]; e < eg[g + 1]; ++e) {
+      sc.ev.push_back({entries[e].j0, 1});
+      sc.ev.push_back({entries[e].j1 + 1, -1});
     }
-    sweep(res.volumes[volume_of(key)].entries);
-    i = e;
-  }
+    sweep(sc, res.volumes[volume_of(entries[eg[g]].key)].entries);
+  });
+  std::size_t values = 0;
+  for (const auto& v : res.volumes) values += v.occupancy.index.size() + v.entries.index.size();
+  if (values > limits::kMaxCongestionResultValues)
+    throw Error(Error::Kind::payload_too_large, too_big_param,
+                "the answer would hold more than " + std::to_string(limits::kMaxCongestionResultValues) +
+                    " values; narrow the window, the extent or use a longer step");
   if (cancel) cancel->throw_if_cancelled();
 
   // Hotspots.
