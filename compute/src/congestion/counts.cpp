@@ -802,7 +802,7 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
     for (std::size_t i = 0; i < r.sectors.size(); ++i) keys.push_back(i);
   }
   res.volumes.resize(keys.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) {
+  tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) {
     VolumeResult& v = res.volumes[i];
     if (grid) {
       const GridCell c = key_cell(keys[i]);
@@ -818,7 +818,7 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
       v.peak = s.peak ? s.peak : r.peak;
       v.sustained = s.sustained ? s.sustained : r.sustained;
     }
-  }
+  });
   const auto volume_of = [&](std::uint64_t key) {
     return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
   };
