@@ -775,9 +775,9 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
     present.insert(present.end(), a.present.begin(), a.present.end());
     res.flights += a.flights;
   }
-  tbb::parallel_sort(ranges.begin(), ranges.end(), [](const StepRange& x, const StepRange& y) {
-    return x.key != y.key ? x.key < y.key : x.flight != y.flight ? x.flight < y.flight : x.k0 < y.k0;
-  });
+  // By volume only: a volume's sweep and its hotspots' flight lists do not depend on the order inside.
+  tbb::parallel_sort(ranges.begin(), ranges.end(),
+                     [](const StepRange& x, const StepRange& y) { return x.key < y.key; });
   tbb::parallel_sort(entries.begin(), entries.end(),
                      [](const EntryRange& x, const EntryRange& y) { return x.key < y.key; });
   tbb::parallel_sort(cvisits.begin(), cvisits.end(), [](const CVisit& x, const CVisit& y) {
