@@ -782,31 +782,12 @@ int main(int argc, char** argv) {
       body << "\n";
     }
 
-    // ---- 9. losses of separation -------------------------------------------------------------------
-    if (const json* r = find1("separation", {{"label", "so6_europe_day"}})) {
-      const double s = dbl(r, "s_p50");
-      targets.push_back({"9", "all-pairs losses of separation, Europe SO6 day", "< 5 s", num(s, 2) + " s",
-                         std::isfinite(s) && s < 5.0});
-      body << "## 9. Losses of separation\n\n"
-              "`separation_bench`: `trailscope::congestion::losses_of_separation()` over the whole Europe "
-              "SO6 day ("
-           << grouped(r, "flights") << " flights, " << grouped(r, "points")
-           << " points, every pair of airborne flights, 5 NM and 1,000 ft, 2,000 ft above FL410), solved "
-              "exactly between linearly interpolated samples; candidate pairs from a spatial hash per "
-              "minute. Median of "
-           << str(r, "reps") << " runs on " << str(r, "threads") << " threads.\n\n"
-           << "| events | pairs with events | pairs solved | (pair, minute) candidates | min | p50 | max | "
-              "peak RSS |\n|---|---|---|---|---|---|---|---|\n"
-           << "| " << grouped(r, "events") << " | " << grouped(r, "pairs_with_events") << " | "
-           << grouped(r, "pairs_tested") << " | " << grouped(r, "candidate_pairs") << " | "
-           << num(dbl(r, "s_min"), 2) << " s | **" << num(s, 2) << " s** | " << num(dbl(r, "s_max"), 2)
-           << " s | " << grouped(r, "peak_rss_mib") << " MiB |\n\n";
-    // ---- 9. congestion counts (congestion_bench) ----------------------------------------------------
+    // ---- 10. congestion counts (congestion_bench) ----------------------------------------------------
     if (const json* full = find1("congestion", {{"impl", "trailscope"}, {"case", "grid_full"}})) {
       const json* smp = find1("congestion", {{"impl", "trailscope"}, {"case", "grid_samples"}});
       const json* ch = find1("congestion", {{"impl", "clickhouse"}});
       body
-          << "## 9. Congestion counts\n\n"
+          << "## 10. Congestion counts\n\n"
              "`congestion_bench` on the Europe SO6 day ("
           << grouped(full, "flights")
           << " flights), the whole day on the 20 NM × 20 NM × 3,000 ft grid (world extent, 0-60,000 ft), "
@@ -827,7 +808,7 @@ int main(int argc, char** argv) {
              << (r->contains("complexity_score") ? num(dbl(r, "complexity_score"), 2) : "–") << " |\n";
       }
       const bool fast = dbl(full, "ms_p50") < 2000;
-      targets.push_back({"9", "congestion: occupancy + entries + complexity, Europe day, grid", "< 2 s",
+      targets.push_back({"10", "congestion: occupancy + entries + complexity, Europe day, grid", "< 2 s",
                          ms(full, "ms_p50") + " ms", fast});
       if (ch) {
         const bool equal = ch->value("equal", false);
@@ -844,7 +825,7 @@ int main(int argc, char** argv) {
              << ms(ch, "clickhouse_server_ms_p50") << " ms | " << ms(ch, "trailscope_ms_p50") << " ms | "
              << ratio(r) << " | " << grouped(ch, "rows") << " | "
              << (equal ? "yes" : "**no** (" + str(ch, "mismatches") + " differ)") << " |\n\n";
-        targets.push_back({"9",
+        targets.push_back({"10",
                            "congestion occupancy vs ClickHouse (same counts, equal: " +
                                std::string(equal ? "yes" : "no") + ")",
                            "≥ 3×", ratio(r), equal && r >= 3});

@@ -11,7 +11,8 @@
 // limits::kFlightGapSeconds) moves between consecutive samples a (time ta) and b (time tb > ta) on the
 // straight line of (lon, lat, alt) linear in time, exactly as positions.hpp interpolates: longitude the
 // short way round (a segment with |Δlon| > 180° crosses 180° and is split there, each part taken in
-// [-180, 180]). A segment with an unknown altitude at either end, or with tb == ta, is in no volume;
+// [-180, 180]). A segment with an unknown altitude at either end (on the grid: or one beyond ±1,000 km,
+// a damaged sample), or with tb == ta, is in no volume;
 // a flight is not extrapolated before its first or after its last sample.
 //
 // INSIDE. A flight's inside set in a volume V is the set of instants at which its trajectory is in V
