@@ -16,14 +16,15 @@ class CongestionTilesTest : public test_routes::RouteFixture {
  protected:
   CongestionTilesTest() {
     TrailSetBuilder b;
-    // Three aircraft over Amsterdam for ten minutes: two hovering on one spot, one flying south-east.
+    // Three aircraft for ten minutes: two hovering on one spot over Amsterdam, one flying south-east from
+    // 30 km away (never in their pixel).
     for (int i = 0; i <= 10; ++i) {
       Sample s;
       s.t = kT + i * 60, s.lat = 52.3f, s.lon = 4.76f, s.alt = 3000;
       b.add("4ca1d0", "KLM1", s);
       s.alt = 3500;
       b.add("4ca1d1", "KLM2", s);
-      s.lat = 52.3f - i * 0.035f, s.lon = 4.76f + i * 0.06f, s.alt = 10000;
+      s.lat = 52.0f - i * 0.035f, s.lon = 5.0f + i * 0.06f, s.alt = 10000;
       b.add("4ca1d2", "KLM3", s);
     }
     trails = std::make_shared<const TrailSet>(b.build());
