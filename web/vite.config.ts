@@ -22,7 +22,8 @@ export default defineConfig({
     },
   },
   test: {
-    include: ['src/**/*.test.ts'],
+    // TRAILSCOPE_E2E=1: the checks against a running server (src/**/*.e2e.ts, run by tests/e2e/run.sh).
+    include: process.env.TRAILSCOPE_E2E ? ['src/**/*.e2e.ts'] : ['src/**/*.test.ts'],
     environment: 'node',
   },
 });

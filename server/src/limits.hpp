@@ -48,6 +48,19 @@ inline constexpr std::size_t kMaxPositionsPerResponse = 100000;
 /// Bytes of rendered PNG tiles kept by the server's LRU cache.
 inline constexpr std::size_t kTileCacheBytes = 256u << 20;
 
+// --- animation chunks ------------------------------------------------------------------------------
+/// Length of one chunk of GET .../animation (seconds, an integer; chunks start at multiples of it). Short
+/// chunks keep a scrub's first answer small; an hour keeps a day to 24 requests.
+inline constexpr int kMinAnimationChunkSeconds = 10;
+inline constexpr int kMaxAnimationChunkSeconds = 3600;
+inline constexpr int kDefaultAnimationChunkSeconds = 300;
+/// Samples in one chunk (bracketing samples included); more are refused with 413. At 29 bytes a sample
+/// that is ~116 MB of TSAN; 25,000 aircraft sampled every 10 s fill a 5-minute chunk with ~850k.
+inline constexpr std::size_t kMaxAnimationChunkSamples = 4'000'000;
+/// Bytes of encoded chunks kept by the server's LRU cache (a day of 25,000 aircraft sampled every 30 s is
+/// ~2.5 GB of 5-minute chunks; the cache keeps the hours around a few playheads).
+inline constexpr std::size_t kAnimationCacheBytes = 512u << 20;
+
 // --- stores ------------------------------------------------------------------------------------------
 /// Bundles the server keeps (the oldest is deleted beyond this).
 inline constexpr std::size_t kMaxStoredBundles = 100;

@@ -855,6 +855,80 @@ int main(int argc, char** argv) {
       }
     }
 
+    // ---- 10. animation in the browser (anim_browser_bench.mjs) ---------------------------------------
+    if (!find("anim_browser").empty()) {
+      const auto run = [](const std::string& mode, long n) -> const json* {
+        for (const json* r : find("anim_browser", {{"mode", mode}}))
+          if (r->value("n", 0L) == n && !r->contains("error")) return r;
+        return nullptr;
+      };
+      std::vector<long> sizes;
+      for (const json* r : find("anim_browser"))
+        if (std::find(sizes.begin(), sizes.end(), r->value("n", 0L)) == sizes.end() &&
+            str(r, "mode") != "empty")
+          sizes.push_back(r->value("n", 0L));
+      std::sort(sizes.begin(), sizes.end());
+      const json* any = find("anim_browser").front();
+      body
+          << "## 10. Animation in the browser: TrailScope's layer vs deck.gl TripsLayer\n\n"
+             "`tests/bench/anim_browser_bench.mjs`: one headless "
+          << str(any, "browser") << " (WebGL on the CPU: `--use-angle=swiftshader`), one page, a "
+          << str(any, "viewport")
+          << " map (MapLibre, a plain background), the same seeded synthetic trips generated in the page "
+             "(N aircraft flying at once over Europe, a sample every 20 s, 25 minutes each), "
+          << str(any, "tail")
+          << " s tails, the clock played at 10× for a fixed time; every run is a fresh page. TrailScope's "
+             "layer (`web/src/flights/animation`, a MapLibre custom WebGL2 layer) reads TSAN chunks of 300 s "
+             "encoded in the page before its clock starts (the server's part); TripsLayer gets every trip at "
+             "once (path + timestamps), the usual way, through `@deck.gl/mapbox`'s MapboxOverlay interleaved "
+             "with MapLibre. Frames/s counts the map's rendered frames; time to first frame runs from "
+             "creating "
+             "the layer to its first drawn frame; heap is the page's used JS heap at the end (GPU buffers "
+             "are "
+             "not in it). The empty map (no layer) is the ceiling of the frame loop on this machine.\n\n"
+             "The middle column draws the same chunks and CPU positions with deck.gl layers (one TripsLayer "
+             "per chunk with binary attributes and chunk-relative times, and a ScatterplotLayer of the "
+             "aircraft) instead of the custom layer: the alternative the dashboard did not keep.\n\n"
+             "| aircraft | samples | TrailScope frames/s | deck.gl layers on the same chunks | TripsLayer "
+             "frames/s | TrailScope / TripsLayer | TrailScope first frame | TripsLayer first frame | "
+             "TrailScope heap | TripsLayer heap |\n"
+             "|---|---|---|---|---|---|---|---|---|---|\n";
+      for (long n : sizes) {
+        const json* o = run("trailscope", n);
+        const json* d = run("trips", n);
+        const double fo = dbl(o, "fps"), fd = dbl(d, "fps");
+        const auto fps = [](double v) { return std::isfinite(v) ? num(v, 2) : std::string("–"); };
+        const auto err = [&](const std::string& mode) {
+          for (const json* r : find("anim_browser", {{"mode", mode}}))
+            if (r->value("n", 0L) == n && r->contains("error")) return " (failed: " + str(r, "error") + ")";
+          return std::string();
+        };
+        const json* k = run("deckchunks", n);
+        body << "| " << grouped(double(n)) << " | " << grouped(o ? o : d, "samples") << " | " << fps(fo)
+             << err("trailscope") << " | " << fps(dbl(k, "fps")) << err("deckchunks") << " | " << fps(fd)
+             << err("trips") << " | " << (fo > 0 && fd > 0 ? num(fo / fd, 2) + "×" : std::string("–"))
+             << " | " << (o ? ms(o, "ttff_ms") + " ms" : "–") << " | " << (d ? ms(d, "ttff_ms") + " ms" : "–")
+             << " | " << (o ? num(dbl(o, "heap_mb"), 0) + " MiB" : "–") << " | "
+             << (d ? num(dbl(d, "heap_mb"), 0) + " MiB" : "–") << " |\n";
+        if (n >= 25000)
+          targets.push_back({"animation",
+                             "browser frames/s, TrailScope's layer vs TripsLayer at " + grouped(double(n)) +
+                                 " aircraft, 120 s tails",
+                             "≥ 2× TripsLayer",
+                             fo > 0 && fd > 0
+                                 ? num(fo / fd, 2) + "× (" + num(fo, 2) + " vs " + num(fd, 2) + ")"
+                                 : std::string("–"),
+                             fo > 0 && fd > 0 && fo >= 2 * fd});
+      }
+      for (const json* e : find("anim_browser", {{"mode", "empty"}}))
+        if (!e->contains("error")) {
+          body << "\nThe empty map renders " << num(dbl(e, "fps"), 2)
+               << " frames/s in the same browser (the frame loop's ceiling here).\n";
+          break;
+        }
+      body << "\n";
+    }
+
     // ---- assemble ----------------------------------------------------------------------------------
     std::ostringstream md;
     md << "# TrailScope benchmarks\n\n"

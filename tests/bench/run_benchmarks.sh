@@ -339,6 +339,22 @@ wait "$SERVER_PID" 2>/dev/null || true  # reaped: its CPU time now counts among 
 SERVER_PID=
 
 # ---------------------------------------------------------------------------------------------------
+# Browser animation: TrailScope's layer vs deck.gl TripsLayer in one headless Chromium (SwiftShader), the
+# same seeded trips generated in the page, 120 s tails, at 5k, 25k and 100k aircraft (and the empty map).
+ANIM_SIZES=${BENCH_ANIM_SIZES:-5000,25000,100000} ANIM_SECONDS=10
+[ "${BENCH_QUICK:-0}" = 1 ] && ANIM_SIZES=${BENCH_ANIM_SIZES:-5000} ANIM_SECONDS=4
+say "10. animation in the browser (TrailScope layer vs deck.gl TripsLayer; $ANIM_SIZES aircraft)"
+if [ -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
+  if [ ! -d tests/bench/peers/node_modules/@deck.gl/geo-layers ] || [ ! -d tests/bench/peers/node_modules/playwright-core ]; then
+    (cd tests/bench/peers && npm ci --no-audit --no-fund) 2>&1 | tail -n 3 | tee -a "$LOG" >&2
+  fi
+  run node tests/bench/anim_browser_bench.mjs --sizes "$ANIM_SIZES" --tail 120 --seconds "$ANIM_SECONDS" \
+    --modes empty,trailscope,deckchunks,trips --page "$OUT/anim-page"
+else
+  echo "chromium not installed (make deps-test): the browser animation benchmark is skipped" | tee -a "$LOG" >&2
+fi
+
+# ---------------------------------------------------------------------------------------------------
 meta load_end "$(cut -d' ' -f1-3 /proc/loadavg)"
 # How much CPU other processes (other people's builds and tests) took while the benchmarks ran: the
 # machine's busy CPU time minus ours (children, ClickHouse), as a share of the cores × wall time.

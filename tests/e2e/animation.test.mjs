@@ -72,7 +72,8 @@ async function drawnAt(t) {
 /** The map area as a PNG (what the analyst sees: basemap, density and the aircraft). */
 async function mapShot(name) {
   await page.mouse.move(2, 2);
-  const buf = await page.locator(sel('map')).screenshot();
+  // The panels over the map (readouts, cache statistics) are masked: only the map itself is compared.
+  const buf = await page.locator(sel('map')).screenshot({ mask: [page.locator(sel('playback')), page.locator('#map-overlay')] });
   if (name) await page.screenshot({ path: path.join(ARTIFACTS, name) });
   return buf.toString('base64');
 }
@@ -151,8 +152,12 @@ await test('play: the clock runs and the aircraft move', async () => {
     return { t, pos: window.trailscope.animation.positionsAt(t) };
   });
   const a = await sample();
+  const shotA = await mapShot();
   await page.waitForTimeout(1500);
   const b = await sample();
+  const shotB = await mapShot('animation-playing.png');
+  const changed = await pixelsDiffering(shotA, shotB);
+  assert(changed > 200, `the map's pixels change while playing (${changed} pixels)`);
   assert(b.t > a.t + 10, `the clock advanced at 100× (${a.t} → ${b.t})`);
   const before = new Map(a.pos.map((p) => [p.flightId, p]));
   let common = 0;
@@ -165,7 +170,7 @@ await test('play: the clock runs and the aircraft move', async () => {
   }
   assert(common > 50, `the same flights are drawn at both instants (${common})`);
   assert(moved > common * 0.8, `aircraft moved: ${moved} of ${common} by more than 100 m in ${(b.t - a.t).toFixed(1)} s`);
-  await mapShot('animation-playing.png');
+  console.log(`        ${moved} of ${common} aircraft moved over ${(b.t - a.t).toFixed(1)} s of data; ${changed} pixels changed`);
 });
 
 await test('pause with Space: the clock stops', async () => {
@@ -174,7 +179,15 @@ await test('pause with Space: the clock stops', async () => {
   const t = await playbackT();
   await page.waitForTimeout(400);
   assertEqual(await playbackT(), t, 'the instant stays while paused');
-  assert(new URL(page.url()).hash.includes(`at=${t}`), `the URL holds the paused instant: ${page.url()}`);
+  await page.waitForFunction((tt) => window.location.hash.includes(`at=${tt}`), t);
+  // + and − walk the speed steps.
+  await page.keyboard.press('+');
+  assertEqual(await page.getAttribute(sel('playback'), 'data-speed'), '200', 'one step faster than 100×');
+  await page.keyboard.press('-');
+  await page.keyboard.press('-');
+  assertEqual(await page.getAttribute(sel('playback'), 'data-speed'), '50', 'two steps slower');
+  await page.keyboard.press('+');
+  await page.waitForFunction(() => window.location.hash.includes('speed=100'));
 });
 
 await test('scrub the cursor on the histogram; the map changes with the instant', async () => {
@@ -190,6 +203,17 @@ await test('scrub the cursor on the histogram; the map changes with the instant'
   const t = Number(await playbackT());
   const { t0, t1 } = state.window;
   assert(t > t0 && t < t1, `the cursor scrubbed inside the window (${t})`);
+  // A click elsewhere in the window jumps there (the brush's own pixel-to-time mapping).
+  const xMid = (await page.locator(`${sel('time-brush')} .selection`).boundingBox()).x + 5;
+  await page.mouse.click(xMid, y);
+  const jumped = Number(await playbackT());
+  assert(jumped >= t0 && jumped < t0 + (t1 - t0) * 0.2 && jumped !== t, `a click jumps the cursor (${jumped})`);
+  await page.mouse.move(xMid, y);
+  await page.mouse.down();
+  await page.mouse.move(x0 + 15, y, { steps: 5 });
+  await page.mouse.move(x0 + 30, y, { steps: 5 });
+  await page.mouse.up();
+  assertEqual(Number(await playbackT()), t, 'dragging the cursor back scrubs to the same pixel time');
   assertEqual(Number(await page.getAttribute(sel('time-brush'), 'data-t0')), t0, 'scrubbing leaves the window alone');
   state.scrubbed = t;
   await drawnAt(t);
@@ -231,8 +255,9 @@ await test('a link with a late instant, speed and tail reopens that moment; posi
   q.set('speed', '1000');
   q.set('tail', '600');
   q.set('color', 'speed');
+  // A fresh load of the link (a hash change alone would keep the running page, which rewrites its hash).
+  await page.goto('about:blank');
   await page.goto(`${BASE_URL}/#${q.toString()}`, { waitUntil: 'domcontentloaded' });
-  await page.reload({ waitUntil: 'domcontentloaded' });
   await page.waitForFunction(() => document.querySelector('[data-testid="playback"]')?.dataset.state === 'on' && window.trailscope?.animation);
   await page.waitForFunction((t) => document.querySelector('[data-testid="playback"]')?.dataset.t === t, String(LATE));
   assertEqual(await page.getAttribute(sel('playback'), 'data-speed'), '1000', 'speed from the link');

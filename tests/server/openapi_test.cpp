@@ -129,6 +129,11 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxSectorUploadBytes", double(L::kMaxSectorUploadBytes)},
       {"kMaxStoredSectorSets", double(L::kMaxStoredSectorSets)},
       {"kMaxCongestionResults", double(L::kMaxCongestionResults)},
+      {"kMinAnimationChunkSeconds", double(L::kMinAnimationChunkSeconds)},
+      {"kMaxAnimationChunkSeconds", double(L::kMaxAnimationChunkSeconds)},
+      {"kDefaultAnimationChunkSeconds", double(L::kDefaultAnimationChunkSeconds)},
+      {"kMaxAnimationChunkSamples", double(L::kMaxAnimationChunkSamples)},
+      {"kAnimationCacheBytes", double(L::kAnimationCacheBytes)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

@@ -547,6 +547,31 @@ std::string bundle_loop_ocl(const Points& in, const bundling::BundleParams& para
   });
 }
 
+std::string bundle_fixed_ocl(Points& p, const std::vector<std::uint32_t>& weights,
+                             const bundling::detail::FixedArgs& a, bundling::detail::LoopTimes& times) {
+  return with_device([&](DeviceBundle& dev) {
+    dev.upload(p);
+    dev.set_weights(weights);
+    dev.set_size(a.size);
+    for (int it = 0; it < a.iterations; ++it) {
+      dev.set_phase(kSplat);
+      dev.splat();
+      dev.set_phase(kConvolve);
+      dev.convolve(a.radius);
+      dev.set_phase(kAdvect);
+      dev.advect(a.step);
+      dev.set_phase(kSmooth);
+      dev.smooth(a.window, a.lambda, a.passes);
+    }
+    dev.set_phase(kOther);
+    dev.finish();
+    const auto ms = dev.phase_ms();
+    times.splat_ms += ms[kSplat], times.convolve_ms += ms[kConvolve], times.advect_ms += ms[kAdvect];
+    times.smooth_ms += ms[kSmooth];
+    dev.download(p);
+  });
+}
+
 void bundle_warm_up() {
   // A device without fp64 never runs bundling on OpenCL (bundle() falls back): nothing to warm up, and
   // no reason to fail the other ops' warm-up.
@@ -623,6 +648,10 @@ std::string bundle_loop_ocl(const bundling::detail::Points&, const bundling::Bun
 }
 std::string bundle_resample_ocl(const bundling::detail::Points&, const bundling::detail::ResampleArgs&,
                                 bundling::detail::Points&) {
+  return "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)";
+}
+std::string bundle_fixed_ocl(bundling::detail::Points&, const std::vector<std::uint32_t>&,
+                             const bundling::detail::FixedArgs&, bundling::detail::LoopTimes&) {
   return "built without OpenCL (TRAILSCOPE_WITH_OPENCL=OFF)";
 }
 std::string bundle_density_ocl(const bundling::detail::Points&, const std::vector<std::uint32_t>&, int, int,

@@ -21,6 +21,10 @@ std::string bundle_loop_ocl(const bundling::detail::Points& in, const bundling::
                             const std::vector<std::uint32_t>& weights, bundling::detail::Points& out,
                             bundling::detail::LoopTimes& times, const ProgressFn& progress,
                             const CancelToken* cancel);
+/// The fixed-kernel loop of streaming bundling (detail::run_fixed_ref) on `p` in place: the points are
+/// uploaded, `a.iterations` iterations run on the device, and the points are read back.
+std::string bundle_fixed_ocl(bundling::detail::Points& p, const std::vector<std::uint32_t>& weights,
+                             const bundling::detail::FixedArgs& a, bundling::detail::LoopTimes& times);
 /// Runs the bundling kernels once on a tiny input (part of opencl_warm_up()); does nothing on a device
 /// without cl_khr_fp64, where bundling never runs on OpenCL. Throws Error(Kind::backend).
 void bundle_warm_up();

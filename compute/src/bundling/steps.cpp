@@ -388,4 +388,27 @@ Points run_loop_ref(Points pts, const BundleParams& params, const std::vector<st
   return pts;
 }
 
+void run_fixed_ref(Points& pts, const std::vector<std::uint32_t>& weights, const FixedArgs& a,
+                   LoopTimes& times) {
+  const std::size_t pixels = static_cast<std::size_t>(a.size) * a.size;
+  std::vector<std::uint32_t> img(pixels);
+  std::vector<std::uint64_t> rows(pixels);
+  std::vector<float> dens(pixels);
+  for (int it = 0; it < a.iterations; ++it) {
+    double t0 = now_ms();
+    std::fill(img.begin(), img.end(), 0u);
+    const Box box = splat(pts, weights, a.size, img);
+    double t1 = now_ms();
+    times.splat_ms += t1 - t0;
+    convolve(img, a.size, box, a.radius, rows, dens);
+    t0 = now_ms();
+    times.convolve_ms += t0 - t1;
+    advect(pts, dens, a.size, a.step);
+    t1 = now_ms();
+    times.advect_ms += t1 - t0;
+    smooth(pts, a.window, a.lambda, a.passes);
+    times.smooth_ms += now_ms() - t1;
+  }
+}
+
 }  // namespace trailscope::bundling::detail

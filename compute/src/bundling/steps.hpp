@@ -124,4 +124,18 @@ struct LoopTimes {
 Points run_loop_ref(Points pts, const BundleParams& params, const std::vector<std::uint32_t>& weights,
                     LoopTimes& times, const ProgressFn& progress, const CancelToken* cancel);
 
+/// The fixed-kernel loop of streaming bundling (streaming.hpp): `iterations` × (splat, convolve with
+/// `radius`, advect by `step`, smooth), with no resampling and no kernel decay, on `pts` in place.
+struct FixedArgs {
+  int size = 512;       ///< density image edge, px
+  int radius = 16;      ///< kernel_radius(h) of the fixed kernel
+  double step = 0.8;    ///< eps · h, px
+  int window = 1;       ///< smooth_window()
+  double lambda = 0.2;  ///< smoothing strength
+  int passes = 1;       ///< smoothing passes
+  int iterations = 2;   ///< iterations of this call
+};
+void run_fixed_ref(Points& pts, const std::vector<std::uint32_t>& weights, const FixedArgs& a,
+                   LoopTimes& times);
+
 }  // namespace trailscope::bundling::detail

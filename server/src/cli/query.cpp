@@ -1,12 +1,16 @@
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <iostream>
 
 #include "trailscope/core/json_text.hpp"
+#include "trailscope/core/text.hpp"
 #include "cli/commands.hpp"
 #include "store/dataset_ingest.hpp"
 #include "store/embedded_store.hpp"
 #include "limits.hpp"
+#include "formats/animation_chunk.hpp"
+#include "trailscope/trails/animation_chunk.hpp"
 #include "trailscope/trails/positions.hpp"
 #include "trailscope/trails/summary.hpp"
 
@@ -62,6 +66,8 @@ void add_query(CLI::App& app) {
     std::size_t page = 0, page_size = limits::kDefaultPageSize, flight_id = 0;
     std::string t;
     bool geojson = false;
+    std::int64_t duration = limits::kDefaultAnimationChunkSeconds;
+    std::string origin, out;
     QueryFlags flags;
   };
   auto o = std::make_shared<Opts>();
@@ -124,6 +130,51 @@ void add_query(CLI::App& app) {
     nlohmann::json j = o->geojson ? at.to_geojson() : at.to_json();
     j["dataset"] = ds->id;  // as the REST API's body
     std::cout << json_text(j, 2) << std::endl;
+  });
+  auto* animation = cmd->add_subcommand(
+      "animation",
+      "One animation chunk [t, t+duration): the flights present and their samples, with the samples "
+      "around the chunk, as TSAN (proto/animation_chunks.md) or JSON (only --callsign and --icao24 apply)");
+  common(animation);
+  animation->add_option("--t", o->t, "the chunk start: Unix seconds or ISO 8601, a multiple of --duration")
+      ->required();
+  animation->add_option("--duration", o->duration, "the chunk length, seconds")->capture_default_str();
+  animation->add_option("--origin", o->origin,
+                        "lon,lat of the projected origin (default: the dataset's centre)");
+  animation->add_option("--out", o->out, "write the TSAN bytes to this file");
+  animation->callback([o] {
+    const double t = parse_time(o->t, "t");
+    if (o->duration < limits::kMinAnimationChunkSeconds || o->duration > limits::kMaxAnimationChunkSeconds)
+      throw invalid_argument("duration", "duration must be in [" +
+                                             std::to_string(limits::kMinAnimationChunkSeconds) + ", " +
+                                             std::to_string(limits::kMaxAnimationChunkSeconds) + "] seconds");
+    server::check_animation_chunk_start(t, o->duration);
+    if (o->flags.params.count("alt_unit"))
+      throw invalid_argument("alt_unit",
+                             "alt_unit does not apply to animation chunks: the player filters "
+                             "positions during playback, and the chunk is the time window");
+    const Query q = parse_query(o->flags.params);
+    server::EmbeddedStore store(o->data_dir);
+    const auto ds = store.get(o->dataset);
+    const auto origin = o->origin.empty() ? server::default_animation_origin(*ds->trails)
+                                          : server::parse_animation_origin(o->origin, "origin");
+    const AnimationChunk chunk = animation_chunk(*ds->trails, t, static_cast<double>(o->duration), q,
+                                                 limits::kMaxAnimationChunkSamples);
+    if (!o->out.empty()) {
+      const std::string bytes = server::encode_animation_chunk(*ds->trails, chunk, origin);
+      std::ofstream f(o->out, std::ios::binary);
+      f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      if (!f.flush()) throw invalid_argument("out", "out: cannot write '" + o->out + "'");
+    }
+    if (o->json) {
+      nlohmann::json j = server::animation_chunk_json(*ds->trails, chunk, origin);
+      j["dataset"] = ds->id;
+      std::cout << json_text(j, 2) << std::endl;
+    } else {
+      std::printf("%zu flights, %zu samples in %s .. %s (t = %s, duration %lld s)\n", chunk.flights.size(),
+                  chunk.samples, iso_utc(t).c_str(), iso_utc(t + static_cast<double>(o->duration)).c_str(),
+                  format_double(t).c_str(), static_cast<long long>(o->duration));
+    }
   });
   auto* flight = cmd->add_subcommand("flight", "One flight as GeoJSON");
   common(flight);

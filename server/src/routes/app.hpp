@@ -6,6 +6,7 @@
 #include <string>
 
 #include "jobs/job_manager.hpp"
+#include "limits.hpp"
 #include "routes/router.hpp"
 #include "store/bundle_store.hpp"
 #include "store/dataset_store.hpp"
@@ -29,6 +30,8 @@ struct App {
   std::filesystem::path web_root;    ///< built browser app (web/dist); empty = none
   JobManager jobs{1};
   TileCache tiles;
+  /// Encoded animation chunks (routes/animation.cpp), keyed like the tiles by dataset and creation stamp.
+  TileCache animation_chunks{limits::kAnimationCacheBytes};
   density::DensityRenderer density;
   /// Uploaded graphs and bundling results, opened in `data_root` (null without one: the graph and bundle
   /// routes then answer 500). Declared after `jobs` so they are destroyed first; running jobs hold their

@@ -16,6 +16,8 @@ Response list_flights(App& app, const Request& req, const PathParams& p);
 Response get_flight(App& app, const Request& req, const PathParams& p);
 /// Every flight at the instant `t`, interpolated (trailscope/trails/positions.hpp), as JSON or GeoJSON.
 Response positions(App& app, const Request& req, const PathParams& p);
+/// One animation chunk [t, t+duration) as TSAN (proto/animation_chunks.md), cached, with ETag and 304.
+Response animation(App& app, const Request& req, const PathParams& p);
 
 Response list_jobs(App& app, const Request& req, const PathParams& p);
 Response get_job(App& app, const Request& req, const PathParams& p);

@@ -23,6 +23,11 @@ Response with_cache_headers(Response r, const std::string& etag) {
 
 Response cached_png(TileCache& cache, const std::string& key, const Request& req,
                     const std::function<std::string()>& render) {
+  return cached_bytes(cache, key, req, "image/png", render);
+}
+
+Response cached_bytes(TileCache& cache, const std::string& key, const Request& req,
+                      const std::string& content_type, const std::function<std::string()>& render) {
   const std::string etag = etag_of(key);
   if (req.header("if-none-match") == etag) return with_cache_headers(Response::status_only(304), etag);
   auto bytes = cache.get(key);
@@ -31,7 +36,7 @@ Response cached_png(TileCache& cache, const std::string& key, const Request& req
     cache.put(key, bytes);
   }
   Response res;
-  res.content_type = "image/png";
+  res.content_type = content_type;
   res.shared_body = std::move(bytes);
   return with_cache_headers(std::move(res), etag);
 }

@@ -45,6 +45,7 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/datasets/{dataset}/flights", bind(list_flights));            // 200 400 404
   r.add("GET", "/api/v1/datasets/{dataset}/flights/{flight_id}", bind(get_flight));  // 200 400 404 413
   r.add("GET", "/api/v1/datasets/{dataset}/positions", bind(positions));             // 200 400 404 413
+  r.add("GET", "/api/v1/datasets/{dataset}/animation", bind(animation));             // 200 304 400 404 413
   r.add("GET", "/api/v1/jobs", bind(list_jobs));                                     // 200
   r.add("GET", "/api/v1/jobs/{job}", bind(get_job));                                 // 200 404
   r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));                           // 200 404

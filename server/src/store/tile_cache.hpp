@@ -1,5 +1,6 @@
 #pragma once
-// An LRU cache of rendered tiles, bounded in bytes. The key holds every input that changes the bytes
+// An LRU cache of rendered tiles (and of any other bytes that are a pure function of their key, such as
+// encoded animation chunks), bounded in bytes. The key holds every input that changes the bytes
 // (dataset and its creation stamp, z/x/y, the canonical query, value, how, cmap, size, kernel), so a hit
 // can never serve a stale or foreign image.
 #include <cstddef>

@@ -19,6 +19,7 @@ import { TimeBrush } from './timeBrush';
 import { Clock, parsePlayback, writePlayback } from './clock';
 import { COLOR_BYS, PlaybackView } from './playback';
 import { TrafficAnimation } from './animation';
+import { startBundleStream } from './bundleStream';
 import type { ColorBy } from './animation/types';
 import { dashboardOf } from '../route';
 import { CongestionPanel } from './congestion/congestionPanel';
@@ -150,6 +151,7 @@ export class FlightsView {
         onChange: () => this.onPlaybackChange(),
       },
       { on: extra.playback.at !== null, tail: extra.playback.tail, colorBy: extra.playback.colorBy },
+      (map, id, getTime, windowS, onError) => startBundleStream(map, id, getTime, { windowS, onError: (e) => onError(e.detail) }),
     );
     this.clock.subscribe((c, prev) => {
       if (c.t !== prev.t) this.brush.setCursor(this.playback.isOn() ? c.t : null);

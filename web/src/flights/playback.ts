@@ -11,6 +11,7 @@ import type { AnimationStats, ColorBy, PickedAircraft, TrafficAnimationApi, Traf
 import { Clock, MAX_TAIL_S, SPEEDS, STEP_LARGE_S, STEP_SMALL_S, formatSpeed, type ClockState } from './clock';
 import { COLOR_BY_LABELS, legendGradient, legendTicks } from './playbackLegend';
 import { PLAYBACK_KEYS, ownsKeys, playbackAction } from './playbackKeys';
+import type { BundleStreamHandle } from './bundleStream';
 import type { Filters } from '../api/query';
 import { normalizeCallsign } from '../api/query';
 import type { BBox } from '../api/types';
@@ -19,12 +20,14 @@ import { formatBytes, formatDuration, formatFlightLevel, formatInt, formatSpeed 
 
 export type AnimationFactory = (map: maplibregl.Map, datasetId: string, opts: TrafficAnimationOptions) => TrafficAnimationApi;
 
-/** What the streamed bundles (bundles that follow the clock) give back. */
-export interface BundleStreamHandle {
-  stop(): void;
-  setWindow(seconds: number): void;
-}
-export type BundleStreamFactory = (map: maplibregl.Map, datasetId: string, getTime: () => number) => BundleStreamHandle;
+/** Starts the streamed bundles (bundles that follow the clock) of the last `windowS` seconds (bundleStream.ts). */
+export type BundleStreamFactory = (
+  map: maplibregl.Map,
+  datasetId: string,
+  getTime: () => number,
+  windowS: number,
+  onError: (detail: string) => void,
+) => BundleStreamHandle;
 
 export const COLOR_BYS: readonly ColorBy[] = ['altitude', 'speed', 'vrate', 'callsign'];
 /** Bundles that follow the clock cover the last N minutes. */
@@ -551,8 +554,10 @@ export class PlaybackView {
     this.bundles?.stop();
     this.bundles = null;
     if (this.bundlesOn && this.on && this.datasetId && this.createBundleStream) {
-      this.bundles = this.createBundleStream(this.map, this.datasetId, () => this.clock.get().t);
-      this.bundles.setWindow(this.bundleWindow);
+      this.bundles = this.createBundleStream(this.map, this.datasetId, () => this.clock.get().t, this.bundleWindow, (detail) => {
+        this.errorEl.hidden = false;
+        this.errorEl.textContent = `Bundles: ${detail}`;
+      });
     }
     this.root.dataset.bundles = String(this.bundles !== null);
   }

@@ -49,6 +49,17 @@ inline constexpr std::uint64_t kMaxGraphUploadBytes = 256ull << 20;
 /// Largest rendered bundle image edge (pixels).
 inline constexpr int kMaxBundleImagePx = 8192;
 
+// --- streaming bundling (bundling/streaming.hpp) -------------------------------------------------------
+/// Most trails one streaming bundler holds at once (the window's trails).
+inline constexpr std::size_t kMaxStreamTrails = 100'000;
+/// Most points (after the entry resampling) one streaming bundler holds: ~50 ms per iteration on one
+/// core of the 2-core build machine at this size.
+inline constexpr std::size_t kMaxStreamPoints = 4'000'000;
+/// Most CUBu iterations per streaming update.
+inline constexpr int kMaxStreamIterations = 5;
+/// Longest window W of a stream, seconds (a day).
+inline constexpr double kMaxStreamWindowSeconds = 86400.0;
+
 // --- tracker metrics (MOTChallenge text files) -----------------------------------------------------
 /// Largest ground-truth or tracker-run text file one evaluation reads (bytes). MOT17's biggest result
 /// file is about 5 MB; this leaves room for long teat-tracker logs without letting one request exhaust

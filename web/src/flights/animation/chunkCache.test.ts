@@ -69,6 +69,23 @@ describe('ChunkCache', () => {
     expect(cache.at(T0 + 1000)?.tStart).toBe(T0 + 900);
   });
 
+  it('ready() waits for a chunk that waits for a fetch slot', async () => {
+    const { fn, calls } = fakeFetch();
+    const cache = new ChunkCache({ url, chunkSeconds: D, fetch: fn, maxInFlight: 1 });
+    cache.update(T0 + 1000, 900, 0); // wants 3, 4, 2, 1, 0; one fetch at a time
+    const tailChunk = cache.whenLoaded(T0); // not started yet
+    let done = false;
+    void tailChunk.then(() => (done = true));
+    for (let i = 0; i < 5; i++) {
+      expect(done).toBe(false);
+      calls[i]!.resolve();
+      await tick();
+      await tick();
+    }
+    expect(calls.map((c) => (startOf(c.url) - T0) / D)).toEqual([3, 4, 2, 1, 0]);
+    expect(done).toBe(true);
+  });
+
   it('scrubbing aborts the fetches it supersedes and drops chunks out of range', async () => {
     const { fn, calls } = fakeFetch();
     const cache = new ChunkCache({ url, chunkSeconds: D, fetch: fn, maxInFlight: 3 });

@@ -71,6 +71,8 @@ export function keepChunk(s: number, t: number, tail: number, lookahead: number,
 
 export class ChunkCache {
   private readonly entries = new Map<number, Entry>();
+  /** Waiters for chunks that are wanted but not started yet (the in-flight cap). */
+  private readonly early = new Map<number, Entry['waiters']>();
   private wanted: number[] = [];
   private t = NaN;
   private tail = 0;
@@ -102,6 +104,11 @@ export class ChunkCache {
       this.entries.delete(s);
       dropped = true;
     }
+    for (const [s, ws] of this.early) {
+      if (this.wanted.includes(s)) continue;
+      for (const w of ws) w.reject(new DOMException('The chunk is no longer needed', 'AbortError'));
+      this.early.delete(s);
+    }
     this.pump();
     if (dropped) this.opts.onChange?.();
   }
@@ -124,7 +131,8 @@ export class ChunkCache {
 
   private load(start: number) {
     const ctrl = new AbortController();
-    const e: Entry = { start, state: 'loading', chunk: null, ctrl, error: null, waiters: [] };
+    const e: Entry = { start, state: 'loading', chunk: null, ctrl, error: null, waiters: this.early.get(start) ?? [] };
+    this.early.delete(start);
     this.entries.set(start, e);
     void this.opts
       .fetch(this.opts.url(start), { signal: ctrl.signal })
@@ -180,7 +188,13 @@ export class ChunkCache {
     const e = this.entries.get(start);
     if (!e) {
       if (this.opts.span && (start + this.opts.chunkSeconds <= this.opts.span[0] || start > this.opts.span[1])) return Promise.resolve();
-      return Promise.reject(new Error(`chunk ${start} is not wanted at the playhead`));
+      if (!this.wanted.includes(start)) return Promise.reject(new Error(`chunk ${start} is not wanted at the playhead`));
+      // Wanted, waiting for a fetch slot.
+      return new Promise((resolve, reject) => {
+        const ws = this.early.get(start) ?? [];
+        ws.push({ resolve, reject });
+        this.early.set(start, ws);
+      });
     }
     if (e.state === 'ready') return Promise.resolve();
     if (e.state === 'error') return Promise.reject(e.error!);
@@ -210,6 +224,8 @@ export class ChunkCache {
       for (const w of e.waiters) w.reject(new DOMException('The cache was cleared', 'AbortError'));
     }
     this.entries.clear();
+    for (const ws of this.early.values()) for (const w of ws) w.reject(new DOMException('The cache was cleared', 'AbortError'));
+    this.early.clear();
     this.wanted = [];
     this.opts.onChange?.();
   }

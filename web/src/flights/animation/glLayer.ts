@@ -1,9 +1,12 @@
 // The WebGL2 drawing of the animation (a MapLibre custom layer's body): per chunk, the segments between
-// consecutive samples live on the GPU once, bucketed by start time, so a frame draws only the segments
-// that can touch [t - tail, t] in ONE instanced draw per chunk; the vertex shader clips each segment to
-// the tail window and to the chunk's own [0, duration) (neighbouring chunks share the bracketing segment;
-// each draws its own half) and fades it by age. The aircraft are ONE instanced draw of arrow glyphs at
-// positions computed on the CPU in float64 (frame.ts). Every time the GPU sees is chunk-relative float32
+// consecutive samples live on the GPU once (a float texture), bucketed by start time, so a frame draws
+// only the segments that can touch [t - tail, t] in ONE draw per chunk; the vertex shader clips each
+// segment to the tail window and to the chunk's own [0, duration) (neighbouring chunks share the
+// bracketing segment; each draws its own part) and fades it by age. The aircraft are ONE draw of arrow
+// glyphs at positions computed on the CPU in float64 (frame.ts). Both draws pull their data from textures
+// by gl_VertexID through a shared index buffer (4 vertices, 2 triangles per item; no instancing): software
+// WebGL (SwiftShader) pays a fixed cost per instance that made instanced tails 5-10x slower there, its
+// vertex cache only works for indexed draws, and vertex pulling costs nothing extra on a real GPU. Every time the GPU sees is chunk-relative float32
 // seconds (a few thousand at most), and every position is float32 metres relative to the chunk origin
 // through a matrix composed in float64, so there is no float32 epoch jitter at any time of day.
 
@@ -15,20 +18,21 @@ import { callsignPasses } from './filter';
 import { PALETTE, RAMPS, callsignPrefix, paletteTexels, prefixCategory, rampTexels } from './colors';
 import type { ColorBy } from './types';
 
-/** Floats per segment: ta, tb, xa, ya, xb, yb, alt, speed, vrate, flight index. */
-const SEG_FLOATS = 10;
+/** Floats per segment (3 RGBA32F texels): ta, tb, xa, ya | xb, yb, alt, speed | vrate, flight index, 0, 0. */
+const SEG_FLOATS = 12;
+/** Width of the data textures (texels). */
+const DATA_TEX_W = 4096;
 /** Width of the per-flight texture. */
 const FLIGHT_TEX_W = 1024;
-/** Floats per glyph instance: x, y, heading (rad), colour value, selected. */
-const GLYPH_FLOATS = 5;
+/** Floats per glyph (one RGBA32F texel): x, y, heading (rad; + 100 when selected), colour value. */
+const GLYPH_FLOATS = 4;
 /** Stand-in for an unknown value on the GPU (NaN compares unreliably in GLSL). */
 export const UNKNOWN = -1e30;
 
 const TAIL_VS = `#version 300 es
 precision highp float;
-in vec2 a_t;
-in vec4 a_xy;
-in vec4 a_val;
+uniform highp sampler2D u_segs;
+uniform int u_first;
 uniform mat4 u_m;
 uniform float u_t, u_tail, u_dur, u_width;
 uniform vec2 u_px;
@@ -49,9 +53,16 @@ bool inBox(vec2 p) {
   return inX && y >= u_bbox.y && y <= u_bbox.w;
 }
 
+vec4 seg(int i) { return texelFetch(u_segs, ivec2(i % ${DATA_TEX_W}, i / ${DATA_TEX_W}), 0); }
+
 void main() {
-  int vid = gl_VertexID;
-  float ta = a_t.x, tb = a_t.y;
+  // Indexed: vertex 4s + corner (0, 1 at the older end, 2, 3 at the newer; triangles 0 1 2, 2 1 3).
+  int s = u_first + gl_VertexID / 4;
+  int vid = gl_VertexID % 4;
+  vec4 a_t4 = seg(3 * s), b4 = seg(3 * s + 1), c4 = seg(3 * s + 2);
+  vec4 a_xy = vec4(a_t4.zw, b4.xy);
+  vec4 a_val = vec4(b4.zw, c4.xy);
+  float ta = a_t4.x, tb = a_t4.y;
   float t0 = max(max(ta, u_t - u_tail), 0.0);
   float t1 = min(min(tb, u_t), u_dur);
   int idx = int(a_val.w + 0.5);
@@ -75,9 +86,9 @@ void main() {
   bool sel = fl.g > 0.5;
   float w = (sel ? 2.2 : 1.0) * u_width * 0.5;
   bool head = vid >= 2;
-  vec2 s = head ? s1 : s0;
+  vec2 sp = head ? s1 : s0;
   float side = (vid == 0 || vid == 2) ? -1.0 : 1.0;
-  gl_Position = vec4(s + side * n * w * u_px, 0.0, 1.0);
+  gl_Position = vec4(sp + side * n * w * u_px, 0.0, 1.0);
   float age = u_t - (head ? t1 : t0);
   float alpha = u_tail > 0.0 ? clamp(1.0 - age / u_tail, 0.0, 1.0) : 1.0;
   vec3 rgb;
@@ -94,8 +105,7 @@ void main() {
 
 const GLYPH_VS = `#version 300 es
 precision highp float;
-in vec2 a_pos;
-in vec3 a_g; // heading (rad), value, selected
+uniform highp sampler2D u_glyphs; // x, y, heading (+100 when selected), value
 uniform mat4 u_m;
 uniform vec2 u_px;
 uniform float u_size;
@@ -103,18 +113,21 @@ uniform int u_colorBy;
 uniform vec2 u_domain;
 uniform sampler2D u_ramp;
 out vec4 v_color;
-const vec2 SHAPE[6] = vec2[6](vec2(0.0, 1.0), vec2(-0.62, -0.72), vec2(0.0, -0.35),
-                              vec2(0.0, 1.0), vec2(0.0, -0.35), vec2(0.62, -0.72));
+// Nose, left wing tip, notch, right wing tip; indexed as triangles 0 1 2, 0 2 3.
+const vec2 SHAPE[4] = vec2[4](vec2(0.0, 1.0), vec2(-0.62, -0.72), vec2(0.0, -0.35), vec2(0.62, -0.72));
 void main() {
-  vec2 l = SHAPE[gl_VertexID];
-  float h = a_g.x;
-  bool sel = a_g.z > 0.5;
+  int i = gl_VertexID / 4;
+  vec4 g = texelFetch(u_glyphs, ivec2(i % ${DATA_TEX_W}, i / ${DATA_TEX_W}), 0);
+  vec2 l = SHAPE[gl_VertexID % 4];
+  bool sel = g.z > 50.0;
+  float h = sel ? g.z - 100.0 : g.z;
+  vec2 a_pos = g.xy;
   float size = u_size * (sel ? 1.8 : 1.0);
   vec2 fwd = vec2(sin(h), cos(h)), right = vec2(cos(h), -sin(h));
   vec2 off = (l.x * right + l.y * fwd) * size;
   vec4 c = u_m * vec4(a_pos, 0.0, 1.0);
   gl_Position = vec4(c.xy / c.w + off * u_px, 0.0, 1.0);
-  float v = a_g.y;
+  float v = g.w;
   vec3 rgb;
   if (v < -1e29) rgb = vec3(0.61, 0.64, 0.69);
   else if (u_colorBy == 3) rgb = texture(u_ramp, vec2((v + 0.5) / ${PALETTE.length}.0, 0.5)).rgb;
@@ -132,7 +145,7 @@ void main() { o = v_color; }`;
 /** A chunk's GPU side. */
 interface ChunkGpu {
   chunk: TsanChunk;
-  buf: WebGLBuffer;
+  segTex: WebGLTexture;
   segments: number;
   /** bucketStart[k]: first segment whose clipped start lies in second k or later (k = 0..nb). */
   bucketStart: Uint32Array;
@@ -160,7 +173,7 @@ function compile(gl: WebGL2RenderingContext, vs: string, fs: string): WebGLProgr
 }
 
 /** Segments of a chunk, clipped to its span and bucketed by clipped start second (a counting sort). */
-export function buildSegments(c: TsanChunk): { data: Float32Array; bucketStart: Uint32Array; maxDur: number } {
+export function buildSegments(c: TsanChunk): { data: Float32Array; segments: number; bucketStart: Uint32Array; maxDur: number } {
   const dur = c.duration;
   const nb = Math.ceil(dur) + 1;
   const counts = new Uint32Array(nb + 1);
@@ -177,7 +190,9 @@ export function buildSegments(c: TsanChunk): { data: Float32Array; bucketStart: 
   const bucketStart = new Uint32Array(nb + 1);
   for (let k = 1; k <= nb; k++) bucketStart[k] = bucketStart[k - 1]! + counts[k]!;
   const fill = bucketStart.slice(0, nb);
-  const data = new Float32Array(n * SEG_FLOATS);
+  // Whole texture rows (3 texels per segment, DATA_TEX_W texels per row).
+  const rows = Math.max(1, Math.ceil((3 * n) / DATA_TEX_W));
+  const data = new Float32Array(rows * DATA_TEX_W * 4);
   let maxDur = 0;
   const val = (v: number) => (v === v ? v : UNKNOWN);
   for (let f = 0; f < c.nFlights; f++) {
@@ -202,7 +217,7 @@ export function buildSegments(c: TsanChunk): { data: Float32Array; bucketStart: 
       maxDur = Math.max(maxDur, Math.min(tb, dur) - Math.max(ta, 0));
     }
   }
-  return { data, bucketStart, maxDur };
+  return { data, segments: n, bucketStart, maxDur };
 }
 
 /** Column-major 4×4 product a·b (float64). */
@@ -251,34 +266,41 @@ export interface DrawParams {
   unitMatrix: ArrayLike<number>;
 }
 
+/** A float texture of `texels` RGBA32F texels in rows of DATA_TEX_W. */
+function floatTexture(gl: WebGL2RenderingContext, data: Float32Array | null, rows: number): WebGLTexture {
+  const tex = gl.createTexture()!;
+  gl.bindTexture(gl.TEXTURE_2D, tex);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, DATA_TEX_W, rows, 0, gl.RGBA, gl.FLOAT, data);
+  for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+  return tex;
+}
+
 export class TrafficGl {
   private tailProg!: WebGLProgram;
   private glyphProg!: WebGLProgram;
   private readonly gpu = new Map<TsanChunk, ChunkGpu>();
-  private glyphBuf!: WebGLBuffer;
-  private glyphCap = 0;
+  private glyphTex: WebGLTexture | null = null;
+  private glyphRows = 0;
   private glyphData = new Float32Array(0);
   private rampTex!: WebGLTexture;
   private rampFor: ColorBy | null = null;
   private vao!: WebGLVertexArrayObject;
+  /** Index buffers of quads (0 1 2, 2 1 3 per item) and glyphs (0 1 2, 0 2 3), grown on demand. */
+  private readonly quadIdx: { buf: WebGLBuffer | null; items: number } = { buf: null, items: 0 };
+  private readonly glyphIdx: { buf: WebGLBuffer | null; items: number } = { buf: null, items: 0 };
   private loc: Record<string, WebGLUniformLocation | null> = {};
   private gloc: Record<string, WebGLUniformLocation | null> = {};
-  private tailAttr = { t: -1, xy: -1, val: -1 };
-  private glyphAttr = { pos: -1, g: -1 };
   tailWidth = 2;
-  glyphSize = 7;
-  /** Segment instances drawn in the last frame (for tests and benchmarks). */
+  glyphSize = 5;
+  /** Segments drawn in the last frame (for tests and benchmarks). */
   lastSegments = 0;
 
   constructor(private readonly gl: WebGL2RenderingContext) {
     this.tailProg = compile(gl, TAIL_VS, FS);
     this.glyphProg = compile(gl, GLYPH_VS, FS);
-    for (const u of ['u_m', 'u_t', 'u_tail', 'u_dur', 'u_width', 'u_px', 'u_colorBy', 'u_domain', 'u_alt', 'u_bbox', 'u_bboxOn', 'u_origin', 'u_world', 'u_flights', 'u_ramp'])
+    for (const u of ['u_segs', 'u_first', 'u_m', 'u_t', 'u_tail', 'u_dur', 'u_width', 'u_px', 'u_colorBy', 'u_domain', 'u_alt', 'u_bbox', 'u_bboxOn', 'u_origin', 'u_world', 'u_flights', 'u_ramp'])
       this.loc[u] = gl.getUniformLocation(this.tailProg, u);
-    for (const u of ['u_m', 'u_px', 'u_size', 'u_colorBy', 'u_domain', 'u_ramp']) this.gloc[u] = gl.getUniformLocation(this.glyphProg, u);
-    this.tailAttr = { t: gl.getAttribLocation(this.tailProg, 'a_t'), xy: gl.getAttribLocation(this.tailProg, 'a_xy'), val: gl.getAttribLocation(this.tailProg, 'a_val') };
-    this.glyphAttr = { pos: gl.getAttribLocation(this.glyphProg, 'a_pos'), g: gl.getAttribLocation(this.glyphProg, 'a_g') };
-    this.glyphBuf = gl.createBuffer()!;
+    for (const u of ['u_glyphs', 'u_m', 'u_px', 'u_size', 'u_colorBy', 'u_domain', 'u_ramp']) this.gloc[u] = gl.getUniformLocation(this.glyphProg, u);
     this.rampTex = gl.createTexture()!;
     this.vao = gl.createVertexArray()!;
   }
@@ -295,7 +317,7 @@ export class TrafficGl {
     const set = new Set(keep);
     for (const [c, g] of this.gpu) {
       if (set.has(c)) continue;
-      this.gl.deleteBuffer(g.buf);
+      this.gl.deleteTexture(g.segTex);
       this.gl.deleteTexture(g.flightTex);
       this.gpu.delete(c);
     }
@@ -304,15 +326,17 @@ export class TrafficGl {
   private upload(c: TsanChunk): ChunkGpu {
     const gl = this.gl;
     const s = buildSegments(c);
-    const buf = gl.createBuffer()!;
-    gl.bindBuffer(gl.ARRAY_BUFFER, buf);
-    gl.bufferData(gl.ARRAY_BUFFER, s.data, gl.STATIC_DRAW);
+    const rows = s.data.length / (4 * DATA_TEX_W);
+    const segTex = floatTexture(gl, s.data, rows);
     const tex = gl.createTexture()!;
     const h = Math.max(1, Math.ceil(c.nFlights / FLIGHT_TEX_W));
     gl.bindTexture(gl.TEXTURE_2D, tex);
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, FLIGHT_TEX_W, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
     for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
-    const g: ChunkGpu = { chunk: c, buf, segments: s.data.length / SEG_FLOATS, bucketStart: s.bucketStart, maxDur: s.maxDur, flightTex: tex, flightTexH: h, flightKey: '', bytes: s.data.byteLength + FLIGHT_TEX_W * h * 4 };
+    const g: ChunkGpu = {
+      chunk: c, segTex, segments: s.segments, bucketStart: s.bucketStart, maxDur: s.maxDur, flightTex: tex, flightTexH: h, flightKey: '',
+      bytes: s.data.byteLength + FLIGHT_TEX_W * h * 4,
+    };
     this.gpu.set(c, g);
     return g;
   }
@@ -349,6 +373,23 @@ export class TrafficGl {
     }
   }
 
+  /** Binds (in the bound VAO) an index buffer covering `items` items of `pattern`. */
+  private bindIndices(ib: { buf: WebGLBuffer | null; items: number }, pattern: readonly number[], items: number) {
+    const gl = this.gl;
+    if (!ib.buf || ib.items < items) {
+      if (ib.buf) gl.deleteBuffer(ib.buf);
+      const n = Math.max(1024, Math.ceil(items * 1.25));
+      const idx = new Uint32Array(6 * n);
+      for (let i = 0; i < n; i++) for (let k = 0; k < 6; k++) idx[6 * i + k] = 4 * i + pattern[k]!;
+      ib.buf = gl.createBuffer()!;
+      ib.items = n;
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib.buf);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
+    } else {
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib.buf);
+    }
+  }
+
   private static domain(colorBy: ColorBy): [number, number] {
     if (colorBy === 'callsign') return [0, PALETTE.length];
     const s = RAMPS[colorBy].stops;
@@ -369,7 +410,7 @@ export class TrafficGl {
     const selKey = `${p.filterKey}|${p.selected}`;
     this.lastSegments = 0;
 
-    // ---- tails: one instanced draw per chunk overlapping [t - tail, t]
+    // ---- tails: one draw per chunk overlapping [t - tail, t], 4 vertices per segment
     if (p.tail > 0) {
       gl.useProgram(this.tailProg);
       const L = this.loc;
@@ -388,6 +429,7 @@ export class TrafficGl {
       gl.uniform1f(L.u_world!, WORLD_M);
       gl.uniform1i(L.u_flights!, 0);
       gl.uniform1i(L.u_ramp!, 1);
+      gl.uniform1i(L.u_segs!, 2);
       for (const c of p.chunks) {
         if (c.tStart > p.t || c.tStart + c.duration <= p.t - p.tail) continue;
         const g = this.gpu.get(c) ?? this.upload(c);
@@ -404,40 +446,31 @@ export class TrafficGl {
         gl.uniform1f(L.u_t!, tRel);
         gl.uniform1f(L.u_dur!, c.duration);
         gl.uniform2f(L.u_origin!, c.originX, c.originY);
+        gl.uniform1i(L.u_first!, lo);
         gl.activeTexture(gl.TEXTURE0);
         gl.bindTexture(gl.TEXTURE_2D, g.flightTex);
-        gl.bindBuffer(gl.ARRAY_BUFFER, g.buf);
-        const A = this.tailAttr, stride = SEG_FLOATS * 4, base = lo * stride;
-        gl.enableVertexAttribArray(A.t);
-        gl.vertexAttribPointer(A.t, 2, gl.FLOAT, false, stride, base);
-        gl.vertexAttribDivisor(A.t, 1);
-        gl.enableVertexAttribArray(A.xy);
-        gl.vertexAttribPointer(A.xy, 4, gl.FLOAT, false, stride, base + 8);
-        gl.vertexAttribDivisor(A.xy, 1);
-        gl.enableVertexAttribArray(A.val);
-        gl.vertexAttribPointer(A.val, 4, gl.FLOAT, false, stride, base + 24);
-        gl.vertexAttribDivisor(A.val, 1);
-        gl.drawArraysInstanced(gl.TRIANGLE_STRIP, 0, 4, hi - lo);
+        gl.activeTexture(gl.TEXTURE2);
+        gl.bindTexture(gl.TEXTURE_2D, g.segTex);
+        this.bindIndices(this.quadIdx, [0, 1, 2, 2, 1, 3], hi - lo);
+        gl.drawElements(gl.TRIANGLES, 6 * (hi - lo), gl.UNSIGNED_INT, 0);
         this.lastSegments += hi - lo;
-      }
-      for (const a of [this.tailAttr.t, this.tailAttr.xy, this.tailAttr.val]) {
-        gl.vertexAttribDivisor(a, 0);
-        gl.disableVertexAttribArray(a);
       }
     }
 
-    // ---- aircraft: one instanced draw of glyphs
+    // ---- aircraft: one draw of glyphs, 4 vertices each
     const fr = p.frame;
     if (fr && fr.n > 0 && p.headings) {
       const c = fr.chunk;
-      if (this.glyphData.length < fr.n * GLYPH_FLOATS) this.glyphData = new Float32Array(Math.ceil(fr.n * 1.25) * GLYPH_FLOATS);
+      const rows = Math.ceil(fr.n / DATA_TEX_W);
+      if (this.glyphData.length < rows * DATA_TEX_W * GLYPH_FLOATS) this.glyphData = new Float32Array(Math.ceil(rows * 1.25) * DATA_TEX_W * GLYPH_FLOATS);
       const d = this.glyphData;
       let selIndex = -1;
       for (let i = 0; i < fr.n; i++) {
         const o = i * GLYPH_FLOATS, f = fr.flight[i]!;
+        const sel = p.selected !== null && c.flightId[f] === p.selected;
         d[o] = fr.x[i]!;
         d[o + 1] = fr.y[i]!;
-        d[o + 2] = p.headings[i]!;
+        d[o + 2] = p.headings[i]! + (sel ? 100 : 0);
         let v: number;
         if (colorMode === 3) {
           const cat = prefixCategory(callsignPrefix(c.callsign[f]!));
@@ -447,8 +480,6 @@ export class TrafficGl {
           if (v !== v) v = UNKNOWN;
         }
         d[o + 3] = v;
-        const sel = p.selected !== null && c.flightId[f] === p.selected;
-        d[o + 4] = sel ? 1 : 0;
         if (sel) selIndex = i;
       }
       // The selected aircraft is drawn last, on top.
@@ -460,6 +491,15 @@ export class TrafficGl {
           d[b + k] = tmp;
         }
       }
+      gl.activeTexture(gl.TEXTURE2);
+      const capRows = d.length / (DATA_TEX_W * GLYPH_FLOATS);
+      if (!this.glyphTex || this.glyphRows < capRows) {
+        if (this.glyphTex) gl.deleteTexture(this.glyphTex);
+        this.glyphTex = floatTexture(gl, null, capRows);
+        this.glyphRows = capRows;
+      }
+      gl.bindTexture(gl.TEXTURE_2D, this.glyphTex);
+      gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, DATA_TEX_W, rows, gl.RGBA, gl.FLOAT, d, 0);
       gl.useProgram(this.glyphProg);
       const G = this.gloc;
       gl.uniformMatrix4fv(G.u_m!, false, Float32Array.from(metresMatrix(p.unitMatrix, c.originX, c.originY)));
@@ -468,32 +508,19 @@ export class TrafficGl {
       gl.uniform1i(G.u_colorBy!, colorMode);
       gl.uniform2f(G.u_domain!, dom[0], dom[1]);
       gl.uniform1i(G.u_ramp!, 1);
-      gl.bindBuffer(gl.ARRAY_BUFFER, this.glyphBuf);
-      if (this.glyphCap < d.length) {
-        gl.bufferData(gl.ARRAY_BUFFER, d.byteLength, gl.DYNAMIC_DRAW);
-        this.glyphCap = d.length;
-      }
-      gl.bufferSubData(gl.ARRAY_BUFFER, 0, d, 0, fr.n * GLYPH_FLOATS);
-      const A = this.glyphAttr, stride = GLYPH_FLOATS * 4;
-      gl.enableVertexAttribArray(A.pos);
-      gl.vertexAttribPointer(A.pos, 2, gl.FLOAT, false, stride, 0);
-      gl.vertexAttribDivisor(A.pos, 1);
-      gl.enableVertexAttribArray(A.g);
-      gl.vertexAttribPointer(A.g, 3, gl.FLOAT, false, stride, 8);
-      gl.vertexAttribDivisor(A.g, 1);
-      gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, fr.n);
-      for (const a of [A.pos, A.g]) {
-        gl.vertexAttribDivisor(a, 0);
-        gl.disableVertexAttribArray(a);
-      }
+      gl.uniform1i(G.u_glyphs!, 2);
+      this.bindIndices(this.glyphIdx, [0, 1, 2, 0, 2, 3], fr.n);
+      gl.drawElements(gl.TRIANGLES, 6 * fr.n, gl.UNSIGNED_INT, 0);
     }
+    gl.activeTexture(gl.TEXTURE0);
     gl.bindVertexArray(null);
   }
 
   destroy(): void {
     this.retain([]);
     const gl = this.gl;
-    gl.deleteBuffer(this.glyphBuf);
+    if (this.glyphTex) gl.deleteTexture(this.glyphTex);
+    for (const ib of [this.quadIdx, this.glyphIdx]) if (ib.buf) gl.deleteBuffer(ib.buf);
     gl.deleteTexture(this.rampTex);
     gl.deleteVertexArray(this.vao);
     gl.deleteProgram(this.tailProg);

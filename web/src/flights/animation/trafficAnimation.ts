@@ -148,7 +148,7 @@ export class TrafficAnimation implements TrafficAnimationApi {
 
   setVisible(v: boolean): void {
     this.visible = v;
-    this.map.setLayoutProperty(this.layerId, 'visibility', v ? 'visible' : 'none');
+    if (this.map.getLayer(this.layerId)) this.map.setLayoutProperty(this.layerId, 'visibility', v ? 'visible' : 'none');
     this.repaint();
   }
 
