@@ -99,5 +99,17 @@ inline constexpr int kBundleStreamMinIntervalMs = 100;
 /// Updates a stream runs after the client's last control message while the clock stands still (the
 /// bundles settle), unless the drift falls below 0.05 px first.
 inline constexpr int kBundleStreamSettleUpdates = 100;
+// --- congestion: uploaded sectors and the results of congestion jobs ---------------------------------
+/// Largest sector upload, POST /api/v1/sectors (bytes of GeoJSON, read in memory): limits::kMaxSectors
+/// sectors of a few hundred vertices each fit many times over.
+inline constexpr std::uint64_t kMaxSectorUploadBytes = 16u << 20;  // 16 MiB
+/// Sector sets the server stores; one more is refused (409) until one is deleted, since an upload must
+/// never disappear to make room.
+inline constexpr std::size_t kMaxStoredSectorSets = 1000;
+/// Results of finished congestion jobs kept in memory for GET /api/v1/congestion/{job} (the oldest is
+/// dropped beyond this; its job stays listed). One result holds at most
+/// limits::kMaxCongestionResultValues series values (~12 bytes each) and
+/// limits::kMaxSeparationEvents events, so this bounds what finished jobs hold.
+inline constexpr std::size_t kMaxCongestionResults = 8;
 
 }  // namespace trailscope::limits

@@ -2,15 +2,15 @@
 # Browser tests of the TrailScope dashboards against real servers over loopback.
 #   1. a temporary data dir, 2. `trailscope ingest` of the Europe SO6 day as "europe",
 #   3. `trailscope serve` on a free port (127.0.0.1 only), 4. the flight dashboard test (dashboard.test.mjs)
-#      and the playback test (animation.test.mjs) on that server,
-#      and the animation chunks against the positions endpoint (web/src/**/*.e2e.ts, vitest),
+#      , the playback test (animation.test.mjs) and the congestion panel test (congestion.test.mjs) on that
+#      server, and the animation chunks against the positions endpoint (web/src/**/*.e2e.ts, vitest),
 #   5. a second server on its own data dir with `--demo` (the synthetic tracker videos) and the tracker
 #      dashboard test (tracker.test.mjs), 6. a third server on its own empty data dir and the runs
 #      dashboard test (runs.test.mjs: it makes short synthetic videos and a 200-run sweep through the API),
 #   7. the servers are always stopped.
 # Environment: TRAILSCOPE_BIN (default build/server/trailscope), TRAILSCOPE_SHARED (default ../shared),
 #              CHROMIUM (default /usr/bin/chromium), E2E_KEEP=1 keeps the temp dir,
-#              E2E_ONLY=dashboard|animation|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
+#              E2E_ONLY=dashboard|animation|congestion|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
 #              and RUNS_SCENARIOS size the runs test's sweep (default 100 points × standard, fast-motion
 #              videos of 64 frames).
 # Prints "N passed, M failed" last; exits non-zero on any failure.
@@ -87,21 +87,24 @@ run_test() {
   fi
 }
 
-if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ]; then
+if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || [ "$ONLY" = congestion ]; then
   echo "run.sh: ingest $DATA"
   "$BIN" ingest "$DATA" --data-dir "$TMP/data" --name europe >"$TMP/ingest.log" 2>&1 || {
     tail -n 20 "$TMP/ingest.log" >&2
     die "ingest failed"
   }
   start_server flights "$TMP/data"
-  [ "$ONLY" = animation ] || run_test dashboard.test.mjs DATASET=europe
-  [ "$ONLY" = dashboard ] || run_test animation.test.mjs DATASET=europe
-  # The animation chunks of the same server against its positions endpoint: the browser's decoder and
-  # interpolation (web/src/flights/animation/*.e2e.ts, run by vitest in Node).
-  echo "run.sh: animation chunks vs positions (web/src/**/*.e2e.ts)"
-  anim_rc=0
-  (cd web && TRAILSCOPE_E2E=1 TRAILSCOPE_URL="$BASE_URL" DATASET=europe npx vitest run) || anim_rc=$?
-  [ "$anim_rc" = 0 ] || status=$anim_rc
+  [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || run_test dashboard.test.mjs DATASET=europe
+  [ "$ONLY" = dashboard ] || [ "$ONLY" = congestion ] || run_test animation.test.mjs DATASET=europe
+  [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || run_test congestion.test.mjs DATASET=europe
+  if [ "$ONLY" != congestion ]; then
+    # The animation chunks of the same server against its positions endpoint: the browser's decoder and
+    # interpolation (web/src/flights/animation/*.e2e.ts, run by vitest in Node).
+    echo "run.sh: animation chunks vs positions (web/src/**/*.e2e.ts)"
+    anim_rc=0
+    (cd web && TRAILSCOPE_E2E=1 TRAILSCOPE_URL="$BASE_URL" DATASET=europe npx vitest run) || anim_rc=$?
+    [ "$anim_rc" = 0 ] || status=$anim_rc
+  fi
 fi
 
 if [ -z "$ONLY" ] || [ "$ONLY" = tracker ]; then

@@ -21,6 +21,7 @@ void add_dmd(CLI::App& app);
 void add_project(CLI::App& app);
 void add_track(CLI::App& app);
 void add_compare(CLI::App& app);
+void add_congestion(CLI::App& app);
 
 /// The airspace-window filters shared by `query` and `tile` (--bbox --t0 --t1 --alt-min --alt-max
 /// --alt-unit --icao24 --callsign --on-ground), collected as the REST API's parameter map so that

@@ -11,6 +11,8 @@
 #include "store/bundle_store.hpp"
 #include "store/dataset_store.hpp"
 #include "store/graph_store.hpp"
+#include "store/sector_store.hpp"
+#include "jobs/congestion_job.hpp"
 #include "store/mot_store.hpp"
 #include "store/sweep_store.hpp"
 #include "store/run_store.hpp"
@@ -47,6 +49,10 @@ struct App {
   std::shared_ptr<ReplayManager> replays;
   /// Bundle streams over WebSocket (their worker pool and count); always present.
   std::shared_ptr<BundleStreams> bundle_streams;
+  /// Uploaded airspace sectors in `data_root` (null without one: the sector routes then answer 500), and
+  /// the results of the last finished congestion jobs (in memory).
+  std::shared_ptr<SectorStore> sectors;
+  std::shared_ptr<CongestionResults> congestion = std::make_shared<CongestionResults>();
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});

@@ -24,6 +24,8 @@ Response get_job(App& app, const Request& req, const PathParams& p);
 Response cancel_job(App& app, const Request& req, const PathParams& p);
 
 Response density_tile(App& app, const Request& req, const PathParams& p);
+/// The thresholded congestion map of simultaneous aircraft (trailscope/congestion/congestion_map.hpp).
+Response congestion_tile(App& app, const Request& req, const PathParams& p);
 
 Response create_graph(App& app, const Request& req, const PathParams& p);
 
@@ -66,6 +68,13 @@ Response replay_viewer_check(App& app, const Request& req, const PathParams& p);
 /// The check of a bundle stream's WebSocket upgrade: 404 "dataset" when unknown, 409 "stream" when
 /// limits::kMaxBundleStreams streams are open, 400 for any query parameter.
 Response bundle_stream_check(App& app, const Request& req, const PathParams& p);
+
+/// Airspace sectors: an upload (a GeoJSON FeatureCollection, congestion::parse_sectors) stored whole; its
+/// GeoJSON back. Congestion counts: a job (jobs/congestion_job.hpp); its result as JSON or CSV.
+Response create_sectors(App& app, const Request& req, const PathParams& p);
+Response get_sectors(App& app, const Request& req, const PathParams& p);
+Response create_congestion(App& app, const Request& req, const PathParams& p);
+Response get_congestion(App& app, const Request& req, const PathParams& p);
 
 Response static_file(App& app, const Request& req, const PathParams& p);
 

@@ -16,6 +16,7 @@ App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::fi
     replays = std::make_shared<ReplayManager>(videos, runs);
     mot = std::make_shared<MotStore>(data_root);
     sweeps = std::make_shared<SweepStore>(data_root);
+    sectors = std::make_shared<SectorStore>(data_root);
   }
   bundle_streams = std::make_shared<BundleStreams>(store);
 }
@@ -103,6 +104,18 @@ Router make_router(App& app) {
   r.add("POST", "/api/v1/replays", bind(create_replay));             // 201 400 404 409
   r.add("GET", "/api/v1/replays/{replay}", bind(get_replay));        // 200 404
   r.add("DELETE", "/api/v1/replays/{replay}", bind(delete_replay));  // 204 404
+  // Airspace sectors and congestion counts (a job; its result as JSON or CSV).
+  const Collection<SectorStore> sectors{&App::sectors, "sectors", "sectors", "a sector store"};
+  r.add("GET", "/api/v1/sectors", list_handler(app, sectors));  // 200
+  r.add("POST", "/api/v1/sectors", bind(create_sectors),
+        BodyRule{limits::kMaxSectorUploadBytes, false, "sector upload"});      // 201 400 409 413 422
+  r.add("GET", "/api/v1/sectors/{sectors}", bind(get_sectors));                // 200 404
+  r.add("DELETE", "/api/v1/sectors/{sectors}", delete_handler(app, sectors));  // 204 404
+  r.add("POST", "/api/v1/congestion", bind(create_congestion));                // 202 400 404 413 422
+  r.add("GET", "/api/v1/congestion/{job}", bind(get_congestion));              // 200 400 404 409
+  // The congestion map of simultaneous aircraft (routes/congestion_tiles.cpp).
+  r.add("GET", "/api/v1/datasets/{dataset}/congestion/tiles/{z}/{x}/{y}.png",
+        bind(congestion_tile));  // 200 304 400 404
   // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });

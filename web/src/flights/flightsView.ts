@@ -22,6 +22,7 @@ import { TrafficAnimation } from './animation';
 import { startBundleStream } from './bundleStream';
 import type { ColorBy } from './animation/types';
 import { dashboardOf } from '../route';
+import { CongestionPanel } from './congestion/congestionPanel';
 
 const SUMMARY_BINS = 96;
 const PAGE_SIZE = 50;
@@ -80,6 +81,7 @@ export class FlightsView {
   /** The one time cursor of the dashboard (clock.ts): playback, the histogram's cursor and every time layer. */
   readonly clock: Clock;
   private readonly playback: PlaybackView;
+  private readonly congestion: CongestionPanel;
   private readonly summaryCh = new Channel();
   private readonly histCh = new Channel();
   private readonly flightsCh = new Channel();
@@ -157,6 +159,13 @@ export class FlightsView {
       if (!c.playing || c.speed !== prev.speed) this.writeHash();
     });
     this.map.setDimmed(this.playback.isOn());
+    this.congestion = new CongestionPanel(byId('congestion-section'), {
+      store: this.store,
+      map: this.map,
+      clock: this.clock,
+      playbackOn: () => this.playback.isOn(),
+      onSelectFlight: (id, callsign, icao24) => this.selectFlight({ id, icao24, callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
+    });
     const playback = this.playback;
     (window as unknown as { trailscope: unknown }).trailscope = {
       map: this.map.map,
@@ -182,6 +191,7 @@ export class FlightsView {
       onJob: (job) => {
         this.jobs.update(job);
         this.bundles.update(job);
+        this.congestion.update(job);
       },
       onState: (st) => {
         this.jobs.setSocketOpen(st === 'open');
@@ -281,7 +291,7 @@ export class FlightsView {
 
   private onJobDone(job: Job, mine: boolean) {
     // Only ingest jobs add data sets; a bundle job's result is the bundling panel's business.
-    if (job.kind === 'bundle') return;
+    if (job.kind === 'bundle' || job.kind === 'congestion') return;
     if (job.state === 'done') void this.loadDatasets(mine ? job.dataset : undefined);
     else if (mine && job.state === 'failed' && job.error) {
       this.errors.show('upload', new ApiError(400, { error: job.error.error, detail: `Ingest of ${job.dataset} failed: ${job.error.detail}`, param: 'name' }));
@@ -413,6 +423,7 @@ export class FlightsView {
     const on = this.playback.isOn();
     this.map.setDimmed(on);
     this.brush.setCursor(on ? this.clock.get().t : null);
+    this.congestion?.refresh(); // (the playback view may report before the panel exists)
     this.writeHash();
   }
 

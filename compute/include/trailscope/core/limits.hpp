@@ -135,4 +135,32 @@ inline constexpr std::size_t kMaxCompareFrames = 50'000;
 /// Most disagreement frames one comparison lists.
 inline constexpr std::size_t kMaxCompareTop = 1000;
 
+// --- congestion: losses of separation and the congestion map ---------------------------------------
+/// Most events one losses-of-separation computation returns (each ~250 bytes of JSON); a window with
+/// more is refused (narrow it with t0/t1, bbox, the altitude band, callsign or icao24).
+inline constexpr std::size_t kMaxSeparationEvents = 100'000;
+
+// --- congestion counts (congestion/counts.hpp, congestion/volumes.hpp) ------------------------------
+/// Longest window [t0, t1) of one congestion count (seconds): a week of traffic.
+inline constexpr double kMaxCongestionSpanSeconds = 7.0 * 86400.0;
+/// Most counting periods (and, separately, entry windows) of one count: a day at 1 s steps fits.
+inline constexpr std::size_t kMaxCongestionSteps = 100'000;
+/// Most sectors in one upload or one count.
+inline constexpr std::size_t kMaxSectors = 1000;
+/// Most vertices of one sector's ring (the self-intersection check is quadratic in them).
+inline constexpr std::size_t kMaxSectorVertices = 10'000;
+/// Longest sector name (bytes).
+inline constexpr std::size_t kMaxSectorNameLength = 64;
+/// Most cells of a grid extent (bbox x altitude band). The whole world from 0 to 60,000 ft is ~7.8M
+/// cells; only cells some flight enters cost memory.
+inline constexpr std::uint64_t kMaxGridCells = 10'000'000;
+/// Most non-zero series values plus complexity rows in one answer (~12 bytes each in memory, ~20 in
+/// JSON): the Europe SO6 day on the grid at 1-min periods gives about 2.5M.
+inline constexpr std::size_t kMaxCongestionResultValues = 20'000'000;
+/// Most volume visits (a flight's maximal stay in one volume) one count keeps (~100 bytes each while
+/// counting); the Europe SO6 day on the grid has about 0.7M.
+inline constexpr std::size_t kMaxCongestionPieces = 40'000'000;
+/// Most hotspots listed in one answer (the largest excesses; all are counted).
+inline constexpr std::size_t kMaxHotspots = 10'000;
+
 }  // namespace trailscope::limits
