@@ -599,6 +599,10 @@ TEST_F(CongestionEurope, GridAndSeparationEqualToTheLibraryWithProgressEvents) {
   EXPECT_EQ(events.back().state, "done");
   EXPECT_EQ(events.back().result["congestion"], "/api/v1/congestion/" + job);
   EXPECT_EQ(events.back().result["separation_events"], separation.events.size());
+  // The Europe window takes long enough (about a second here) for progress to be reported in between.
+  EXPECT_TRUE(std::any_of(events.begin(), events.end(), [](const JobState& e) {
+    return e.state == "running" && e.progress > 0 && e.progress < 1 && !e.stage.empty();
+  }));
   const std::set<std::string> stages = {"", "inside", "counts", "complexity", "separation"};
   for (std::size_t i = 1; i < events.size(); ++i) {
     EXPECT_GE(events[i].progress, events[i - 1].progress);
