@@ -782,6 +782,58 @@ int main(int argc, char** argv) {
       body << "\n";
     }
 
+    // ---- 10. congestion counts (congestion_bench) ----------------------------------------------------
+    if (const json* full = find1("congestion", {{"impl", "trailscope"}, {"case", "grid_full"}})) {
+      const json* smp = find1("congestion", {{"impl", "trailscope"}, {"case", "grid_samples"}});
+      const json* ch = find1("congestion", {{"impl", "clickhouse"}});
+      body
+          << "## 10. Congestion counts\n\n"
+             "`congestion_bench` on the Europe SO6 day ("
+          << grouped(full, "flights")
+          << " flights), the whole day on the 20 NM × 20 NM × 3,000 ft grid (world extent, 0-60,000 ft), "
+             "1-min periods of 1 min, entry counts per 60 min every 20 min (congestion/counts.hpp). "
+             "**full**: occupancy by the interpolated trajectory (exact clipping of every segment) + entry "
+             "counts + the PRU complexity per cell-hour; **samples**: occupancy and entries by the samples "
+             "only, what the peer computes. Median of "
+          << str(full, "reps")
+          << " runs after a warm-up; CPU = user + system time of all threads (meaningful under load).\n\n"
+             "| case | p50 | min | CPU p50 | cells | occupancy sum | entries sum | cell-hours | PRU score |\n"
+             "|---|---|---|---|---|---|---|---|---|\n";
+      for (const json* r : {full, smp}) {
+        if (!r) continue;
+        body << "| " << str(r, "case") << " | **" << ms(r, "ms_p50") << " ms** | " << ms(r, "ms_min")
+             << " ms | " << ms(r, "cpu_ms_p50") << " ms | " << grouped(r, "cells") << " | "
+             << grouped(r, "occupancy_sum") << " | " << grouped(r, "entries_sum") << " | "
+             << grouped(r, "cell_hours") << " | "
+             << (r->contains("complexity_score") ? num(dbl(r, "complexity_score"), 2) : "–") << " |\n";
+      }
+      const bool fast = dbl(full, "ms_p50") < 2000;
+      targets.push_back({"10", "congestion: occupancy + entries + complexity, Europe day, grid", "< 2 s",
+                         ms(full, "ms_p50") + " ms", fast});
+      if (ch) {
+        const bool equal = ch->value("equal", false);
+        const double r = dbl(ch, "ratio");
+        body << "\nPeer: ClickHouse " << m("clickhouse")
+             << " computing the same occupancy counts (method=samples) in SQL over the same points: each "
+                "sample's cell from the same formulas (the rows' column widths passed in as an array "
+                "literal), "
+                "its period, `uniqExact(flight_id)` per (cell, period); server time "
+                "(`statistics.elapsed`), best of its layouts ("
+             << str(ch, "clickhouse_layout") << "), " << str(ch, "reps") << " runs.\n\n"
+             << "| ClickHouse p50 | TrailScope p50 (samples) | ours faster | (cell, period) rows | equal |\n"
+                "|---|---|---|---|---|\n| "
+             << ms(ch, "clickhouse_server_ms_p50") << " ms | " << ms(ch, "trailscope_ms_p50") << " ms | "
+             << ratio(r) << " | " << grouped(ch, "rows") << " | "
+             << (equal ? "yes" : "**no** (" + str(ch, "mismatches") + " differ)") << " |\n\n";
+        targets.push_back({"10",
+                           "congestion occupancy vs ClickHouse (same counts, equal: " +
+                               std::string(equal ? "yes" : "no") + ")",
+                           "≥ 3×", ratio(r), equal && r >= 3});
+      } else {
+        body << "\nPeer: not run (ClickHouse not installed).\n\n";
+      }
+    }
+
     // ---- assemble ----------------------------------------------------------------------------------
     std::ostringstream md;
     md << "# TrailScope benchmarks\n\n"

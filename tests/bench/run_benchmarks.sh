@@ -211,6 +211,11 @@ run "$B/summary_bench" --flights "$FLIGHTS" --reps "$SUM_REPS" "${CH_ARGS[@]}"
 say "4. density tiles"
 run "$B/tile_bench" --so6 "$SO6" --demo-flights "$FLIGHTS" --reps "$TILE_REPS" "${CH_ARGS[@]}"
 
+# --- congestion counts: the grid on the Europe day, and the same occupancy counts in ClickHouse ------
+say "4b. congestion counts (occupancy + entries + complexity on the 20 NM grid) and the ClickHouse peer"
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target congestion_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/congestion_bench" --so6 "$SO6" --reps "${CONGESTION_REPS:-5}" "${CH_ARGS[@]}"
+
 if [ "$CH_STARTED" = 1 ]; then
   OWN_EXTRA_CPU=$(awk -v a="$OWN_EXTRA_CPU" -v b="$(proc_cpu_s "$(cat "$CH_DIR/clickhouse.pid")")" 'BEGIN { printf "%.2f", a + b }')
   record bash tests/bench/clickhouse_ctl.sh stop "$CH_DIR"

@@ -86,8 +86,11 @@ struct Acc {
   std::vector<StepRange> ranges;
   std::vector<EntryRange> entries;
   std::vector<CVisit> cvisits;
-  std::vector<std::uint64_t> present;
+  std::vector<std::uint64_t> present;  // volumes met in [t0, t1) that no period range names
   std::uint32_t flights = 0;
+  // Per-flight scratch, reused.
+  std::vector<StepRange> local;
+  std::vector<std::uint64_t> prev, cur;
 };
 
 struct Timing {
@@ -159,14 +162,17 @@ class FlightScan {
   }
 
   // The key of a position (grid), kNoKey when outside the extent or the altitude is unknown.
+  // An altitude the grid can place: known and within ±1,000 km (grid_cell_at refuses beyond ±10,000 km;
+  // anything past the first is a damaged sample, not an aircraft).
+  static bool usable(double alt) { return std::fabs(alt) <= 1e6; }
   std::uint64_t cell_of(const Pos& p) const {
-    if (!(p.alt == p.alt)) return kNoKey;
+    if (!usable(p.alt)) return kNoKey;
     const GridCell c = grid_cell_at(std::clamp(p.lat, -90.0, 90.0), std::clamp(p.lon, -180.0, 180.0), p.alt);
     return in_extent(c) ? cell_key(c) : kNoKey;
   }
   // The same without the extent: the cell holding p, kNoKey only for an unknown altitude.
   std::uint64_t raw_cell_of(const Pos& p) const {
-    if (!(p.alt == p.alt)) return kNoKey;
+    if (!usable(p.alt)) return kNoKey;
     return cell_key(grid_cell_at(std::clamp(p.lat, -90.0, 90.0), std::clamp(p.lon, -180.0, 180.0), p.alt));
   }
   bool sector_holds(std::size_t s, const Pos& p) const {
@@ -257,8 +263,7 @@ class FlightScan {
   }
 
   void grid_segment(const Seg& s, bool first) {
-    const bool alt_known = s.p0.alt == s.p0.alt && s.p1.alt == s.p1.alt;
-    if (!alt_known) return;
+    if (!usable(s.p0.alt) || !usable(s.p1.alt)) return;
     if (raw_cell_of(s.p0) == raw_cell_of(s.p1)) {
       // A half-open box is convex: both ends in one cell means the whole segment is.
       add(cell_of(s.p0), s.ta, s.tb, true, true, s.p0, s.p1);
@@ -640,9 +645,8 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
     if (i0 > f.begin) --i0;
     std::size_t i1 = f.begin + static_cast<std::size_t>(std::lower_bound(tb, te, t1) - tb);
     if (i1 < f.end) ++i1;  // [i0, i1)
-    const std::size_t ranges_from = acc.ranges.size();
-    std::vector<StepRange> local;
-    local.reserve(64);
+    std::vector<StepRange>& local = acc.local;
+    local.clear();
 
     if (need_visits) {
       scan.reset();
@@ -665,8 +669,10 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
         const bool meets = tm.periods(v.a, v.b, v.cb, k0, k1);
         if (!(v.a < t1) || v.b < t0 || (v.b == t0 && !v.cb)) continue;  // not in [t0, t1)
         if (interpolated) {
-          acc.present.push_back(v.key);
-          if (meets) local.push_back({v.key, fi, k0, k1});
+          if (meets)
+            local.push_back({v.key, fi, k0, k1});
+          else
+            acc.present.push_back(v.key);
           std::uint32_t j0, j1;
           if (tm.windows(v.a, j0, j1)) acc.entries.push_back({v.key, j0, j1});
         }
@@ -687,14 +693,15 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
             const double vrate = (v.pb.alt - v.pa.alt) / kMetresPerFoot / (dt / 60.0);
             acc.cvisits.push_back(
                 {v.key, fi, a, b, heading, static_cast<float>(speed), attitude(vrate, vrate_thr)});
-            if (!interpolated) acc.present.push_back(v.key);  // its complexity rows need the volume
           }
         }
       }
     }
     if (!interpolated) {
       // method = samples: the volumes holding each sample.
-      std::vector<std::uint64_t> prev, cur;
+      std::vector<std::uint64_t>& prev = acc.prev;
+      std::vector<std::uint64_t>& cur = acc.cur;
+      prev.clear();
       bool have_prev = false;
       for (std::size_t i = i0; i < i1; ++i) {
         const double t = pts.t[i];
@@ -712,9 +719,11 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
         }
         if (t >= t0) {
           for (std::uint64_t k : cur) {
-            acc.present.push_back(k);
             std::uint32_t k0, k1;
-            if (tm.periods(t, t, true, k0, k1)) local.push_back({k, fi, k0, k1});
+            if (tm.periods(t, t, true, k0, k1))
+              local.push_back({k, fi, k0, k1});
+            else
+              acc.present.push_back(k);
             const bool entered =
                 i == f.begin || !have_prev || std::find(prev.begin(), prev.end(), k) == prev.end();
             std::uint32_t j0, j1;
@@ -726,7 +735,6 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
       }
     }
     merge_ranges(local, 0, acc.ranges);
-    (void)ranges_from;
   };
 
   // Flights in blocks, so that progress and cancellation are reported from this thread.
@@ -754,6 +762,12 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   std::vector<CVisit> cvisits;
   std::vector<std::uint64_t> present;
   CountsResult res;
+  {
+    std::size_t nr = 0, ne = 0, nc = 0, np = 0;
+    for (auto& a : accs)
+      nr += a.ranges.size(), ne += a.entries.size(), nc += a.cvisits.size(), np += a.present.size();
+    ranges.reserve(nr), entries.reserve(ne), cvisits.reserve(nc), present.reserve(np);
+  }
   for (auto& a : accs) {
     ranges.insert(ranges.end(), a.ranges.begin(), a.ranges.end());
     entries.insert(entries.end(), a.entries.begin(), a.entries.end());
@@ -761,11 +775,14 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
     present.insert(present.end(), a.present.begin(), a.present.end());
     res.flights += a.flights;
   }
-  tbb::parallel_sort(ranges.begin(), ranges.end(), [](const StepRange& x, const StepRange& y) {
-    return x.key != y.key ? x.key < y.key : x.flight != y.flight ? x.flight < y.flight : x.k0 < y.k0;
-  });
+  // By volume only: a volume's sweep and its hotspots' flight lists do not depend on the order inside.
+  tbb::parallel_sort(ranges.begin(), ranges.end(),
+                     [](const StepRange& x, const StepRange& y) { return x.key < y.key; });
   tbb::parallel_sort(entries.begin(), entries.end(),
                      [](const EntryRange& x, const EntryRange& y) { return x.key < y.key; });
+  tbb::parallel_sort(cvisits.begin(), cvisits.end(), [](const CVisit& x, const CVisit& y) {
+    return x.key != y.key ? x.key < y.key : x.a < y.a;
+  });
 
   // Volumes.
   res.t0 = t0, res.t1 = t1, res.step_s = r.step_s, res.duration_s = r.duration_s;
@@ -773,6 +790,11 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   res.grid = grid, res.steps = tm.K, res.entry_windows = tm.J, res.hours = tm.H;
   std::vector<std::uint64_t> keys;
   if (grid) {
+    // Cells with a period range, with complexity rows, or met between periods (step > duration).
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      if (i == 0 || ranges[i].key != ranges[i - 1].key) present.push_back(ranges[i].key);
+    for (std::size_t i = 0; i < cvisits.size(); ++i)
+      if (i == 0 || cvisits[i].key != cvisits[i - 1].key) present.push_back(cvisits[i].key);
     tbb::parallel_sort(present.begin(), present.end());
     present.erase(std::unique(present.begin(), present.end()), present.end());
     keys = std::move(present);
@@ -780,7 +802,7 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
     for (std::size_t i = 0; i < r.sectors.size(); ++i) keys.push_back(i);
   }
   res.volumes.resize(keys.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) {
+  tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) {
     VolumeResult& v = res.volumes[i];
     if (grid) {
       const GridCell c = key_cell(keys[i]);
@@ -796,17 +818,22 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
       v.peak = s.peak ? s.peak : r.peak;
       v.sustained = s.sustained ? s.sustained : r.sustained;
     }
-  }
+  });
   const auto volume_of = [&](std::uint64_t key) {
     return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
   };
   if (progress) progress(0.0, "counts");
 
   // Occupancy and entries: a sweep over +1/-1 events per volume.
-  std::size_t values = 0;
-  std::vector<std::pair<std::uint32_t, int>> ev;
-  std::vector<int> diff;
-  const auto sweep = [&](Series& out) {
+  struct SweepScratch {
+    std::vector<std::pair<std::uint32_t, int>> ev;
+    std::vector<int> diff;
+  };
+  tbb::enumerable_thread_specific<SweepScratch> scratch;
+  // One volume's series from its +1/-1 events.
+  const auto sweep = [](SweepScratch& sc, Series& out) {
+    auto& ev = sc.ev;
+    auto& diff = sc.diff;
     std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
     for (const auto& [at, d] : ev) lo = std::min(lo, at), hi = std::max(hi, at);
     if (!ev.empty() && hi - lo <= 8 * ev.size()) {
@@ -830,39 +857,44 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
             out.index.push_back(k), out.value.push_back(static_cast<std::uint32_t>(c));
       }
     }
-    values += out.index.size();
-    if (values > limits::kMaxCongestionResultValues)
-      throw Error(Error::Kind::payload_too_large, too_big_param,
-                  "the answer would hold more than " + std::to_string(limits::kMaxCongestionResultValues) +
-                      " values; narrow the window, the extent or use a longer step");
+  };
+  // Groups of equal keys in a key-sorted vector.
+  const auto groups = [](const auto& v) {
+    std::vector<std::size_t> g;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (i == 0 || v[i].key != v[i - 1].key) g.push_back(i);
+    g.push_back(v.size());
+    return g;
   };
   std::vector<std::size_t> range_begin(keys.size() + 1, ranges.size());
-  for (std::size_t i = 0, vi = 0; i < ranges.size();) {
-    const std::uint64_t key = ranges[i].key;
-    vi = volume_of(key);
-    std::size_t e = i;
-    ev.clear();
-    while (e < ranges.size() && ranges[e].key == key) {
-      ev.push_back({ranges[e].k0, 1});
-      ev.push_back({ranges[e].k1 + 1, -1});
-      ++e;
+  const auto rg = groups(ranges);
+  const auto eg = groups(entries);
+  tbb::parallel_for(std::size_t(0), rg.size() - 1, [&](std::size_t g) {
+    SweepScratch& sc = scratch.local();
+    sc.ev.clear();
+    for (std::size_t e = rg[g]; e < rg[g + 1]; ++e) {
+      sc.ev.push_back({ranges[e].k0, 1});
+      sc.ev.push_back({ranges[e].k1 + 1, -1});
     }
-    range_begin[vi] = i;
-    sweep(res.volumes[vi].occupancy);
-    i = e;
-  }
-  for (std::size_t i = 0; i < entries.size();) {
-    const std::uint64_t key = entries[i].key;
-    std::size_t e = i;
-    ev.clear();
-    while (e < entries.size() && entries[e].key == key) {
-      ev.push_back({entries[e].j0, 1});
-      ev.push_back({entries[e].j1 + 1, -1});
-      ++e;
+    const std::size_t vi = volume_of(ranges[rg[g]].key);
+    range_begin[vi] = rg[g];
+    sweep(sc, res.volumes[vi].occupancy);
+  });
+  tbb::parallel_for(std::size_t(0), eg.size() - 1, [&](std::size_t g) {
+    SweepScratch& sc = scratch.local();
+    sc.ev.clear();
+    for (std::size_t e = eg[g]; e < eg[g + 1]; ++e) {
+      sc.ev.push_back({entries[e].j0, 1});
+      sc.ev.push_back({entries[e].j1 + 1, -1});
     }
-    sweep(res.volumes[volume_of(key)].entries);
-    i = e;
-  }
+    sweep(sc, res.volumes[volume_of(entries[eg[g]].key)].entries);
+  });
+  std::size_t values = 0;
+  for (const auto& v : res.volumes) values += v.occupancy.index.size() + v.entries.index.size();
+  if (values > limits::kMaxCongestionResultValues)
+    throw Error(Error::Kind::payload_too_large, too_big_param,
+                "the answer would hold more than " + std::to_string(limits::kMaxCongestionResultValues) +
+                    " values; narrow the window, the extent or use a longer step");
   if (cancel) cancel->throw_if_cancelled();
 
   // Hotspots.
@@ -929,9 +961,6 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
       std::uint32_t hour;
       std::uint32_t vi;  // index into cvisits
     };
-    tbb::parallel_sort(cvisits.begin(), cvisits.end(), [](const CVisit& x, const CVisit& y) {
-      return x.key != y.key ? x.key < y.key : x.a < y.a;
-    });
     std::vector<std::size_t> starts;
     for (std::size_t i = 0; i < cvisits.size(); ++i)
       if (i == 0 || cvisits[i].key != cvisits[i - 1].key) starts.push_back(i);

@@ -264,9 +264,13 @@ const RowTable& rows() {
 }
 }  // namespace
 
-double grid_column_width(int row) { return rows().width[row]; }
+double grid_column_width(int row) {
+  return rows().width[row];
+}
 
-int grid_columns(int row) { return rows().columns[row]; }
+int grid_columns(int row) {
+  return rows().columns[row];
+}
 
 namespace {
 int row_of(double lat) {

@@ -387,6 +387,31 @@ Error error_of(const std::function<void()>& f) {
   return Error(Error::Kind::internal, "", "");
 }
 
+// Progress goes through the three stages in order and ends at 1; a cancelled token stops the count
+// with Error(cancelled).
+TEST(CongestionCounts, ProgressAndCancel) {
+  TrailSetBuilder b;
+  for (int f = 0; f < 600; ++f) {
+    const std::string id = "f" + std::to_string(100000 + f);
+    b.add(id, id, sample(0, -1, 0.5f, fl(150)));
+    b.add(id, id, sample(600, 2, 0.5f, fl(150)));
+  }
+  const TrailSet set = b.build(nullptr, kNoSplit);
+  std::vector<std::string> stages;
+  double last = -1;
+  const auto r = count(set, request(0, 900, square(0, 0, 1, 1)), [&](double f, std::string_view st) {
+    if (stages.empty() || stages.back() != st) stages.emplace_back(st);
+    last = f;
+  });
+  EXPECT_EQ(stages, (std::vector<std::string>{"inside", "counts", "complexity"}));
+  EXPECT_EQ(last, 1.0);
+  EXPECT_EQ(r.volumes[0].occupancy.max(), 600u);  // all inside during [200, 400]
+  CancelToken cancel;
+  cancel.cancel();
+  const Error e = error_of([&] { count(set, request(0, 900, square(0, 0, 1, 1)), {}, &cancel); });
+  EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+}
+
 TEST(CongestionCounts, RequestChecks) {
   const TrailSet set;
   const auto expect = [&](CountsRequest r, const std::string& param, const std::string& message) {

@@ -11,7 +11,8 @@
 // limits::kFlightGapSeconds) moves between consecutive samples a (time ta) and b (time tb > ta) on the
 // straight line of (lon, lat, alt) linear in time, exactly as positions.hpp interpolates: longitude the
 // short way round (a segment with |Δlon| > 180° crosses 180° and is split there, each part taken in
-// [-180, 180]). A segment with an unknown altitude at either end, or with tb == ta, is in no volume;
+// [-180, 180]). A segment with an unknown altitude at either end (on the grid: or one beyond ±1,000 km,
+// a damaged sample), or with tb == ta, is in no volume;
 // a flight is not extrapolated before its first or after its last sample.
 //
 // INSIDE. A flight's inside set in a volume V is the set of instants at which its trajectory is in V
@@ -54,7 +55,8 @@
 //   - horizontal / vertical / speed hours: the part of interaction_hours during which the pair's
 //     headings differ by more than heading_deg (20°), their vertical attitudes (climbing: vertical
 //     rate > +vrate_fpm, descending: < -vrate_fpm, cruising otherwise; 500 ft/min) differ, or their
-//     ground speeds differ by more than speed_kt (35 kt). The thresholds are the PRU report's.
+//     ground speeds differ by more than speed_kt (35 kt). The PRU report defines the three kinds of
+//     interaction; the numbers are defaults, settable per request (ComplexityParams).
 //     Heading, ground speed and vertical rate are those of the flight's VISIT of the volume (a maximal
 //     interval of its inside set): heading atan2(Δlon·cos φm, Δlat) from the entry point to the exit
 //     point (φm their mean latitude; no horizontal interaction when they coincide), speed = the
@@ -95,7 +97,7 @@ const char* to_string(Method m) noexcept;
 /// Reads "interpolated" or "samples"; throws invalid_argument("method") otherwise.
 Method parse_method(const std::string& text);
 
-/// The PRU's interaction thresholds (EUROCONTROL PRU 2006).
+/// Thresholds of the PRU's three kinds of interaction (EUROCONTROL PRU 2006); defaults, settable.
 struct ComplexityParams {
   double heading_deg = 20.0;  ///< horizontal interaction above this heading difference, (0, 180)
   double speed_kt = 35.0;     ///< speed interaction above this ground-speed difference, > 0
@@ -128,9 +130,10 @@ struct CountsRequest {
 /// invalid_argument naming the parameter: "t0" / "t1" (missing, t1 <= t0, span above the limit),
 /// "step", "duration", "entry_window", "entry_step", "peak", "sustained", "sustained_steps",
 /// "heading_deg", "speed_kt", "vrate_fpm", "bbox" / "alt_min" / "alt_max" (with sectors, or out of
-/// range), "on_ground"; Error(payload_too_large, "step") when K or J exceeds
-/// limits::kMaxCongestionSteps, Error(payload_too_large, "bbox") when the grid extent has more than
-/// limits::kMaxGridCells cells, Error(payload_too_large, "sectors") above limits::kMaxSectors.
+/// range), "on_ground"; Error(payload_too_large, "step") when K, or Error(payload_too_large,
+/// "entry_step") when J, exceeds limits::kMaxCongestionSteps, Error(payload_too_large, "bbox") when the grid
+/// extent has more than limits::kMaxGridCells cells, Error(payload_too_large, "sectors") above
+/// limits::kMaxSectors.
 void validate(const CountsRequest& r);
 
 /// Builds the non-volume part of a request from string parameters (a URL query, CLI flags):
