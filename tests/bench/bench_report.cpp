@@ -833,6 +833,26 @@ int main(int argc, char** argv) {
         body << "\nPeer: not run (ClickHouse not installed).\n\n";
       }
     }
+    // ---- 9. losses of separation -------------------------------------------------------------------
+    if (const json* r = find1("separation", {{"label", "so6_europe_day"}})) {
+      const double s = dbl(r, "s_p50");
+      targets.push_back({"9", "all-pairs losses of separation, Europe SO6 day", "< 5 s", num(s, 2) + " s",
+                         std::isfinite(s) && s < 5.0});
+      body << "## 9. Losses of separation\n\n"
+              "`separation_bench`: `trailscope::congestion::losses_of_separation()` over the whole Europe "
+              "SO6 day ("
+           << grouped(r, "flights") << " flights, " << grouped(r, "points")
+           << " points, every pair of airborne flights, 5 NM and 1,000 ft, 2,000 ft above FL410), solved "
+              "exactly between linearly interpolated samples; candidate pairs from a spatial hash per "
+              "minute. Median of "
+           << str(r, "reps") << " runs on " << str(r, "threads") << " threads.\n\n"
+           << "| events | pairs with events | pairs solved | (pair, minute) candidates | min | p50 | max | "
+              "peak RSS |\n|---|---|---|---|---|---|---|---|\n"
+           << "| " << grouped(r, "events") << " | " << grouped(r, "pairs_with_events") << " | "
+           << grouped(r, "pairs_tested") << " | " << grouped(r, "candidate_pairs") << " | "
+           << num(dbl(r, "s_min"), 2) << " s | **" << num(s, 2) << " s** | " << num(dbl(r, "s_max"), 2)
+           << " s | " << grouped(r, "peak_rss_mib") << " MiB |\n\n";
+    }
 
     // ---- assemble ----------------------------------------------------------------------------------
     std::ostringstream md;

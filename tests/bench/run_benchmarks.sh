@@ -260,6 +260,13 @@ run "$B/tracker_bench" --scenarios standard,noisy,occluded,cups-attached,fast-mo
   --seed 1 --reps "$TRACKER_REPS" --peers csrt,kcf --peer-reps "$TRACKER_PEER_REPS"
 
 # ---------------------------------------------------------------------------------------------------
+say "5d. losses of separation: all pairs of the Europe SO6 day (5 NM / 1,000 ft, 2,000 ft above FL410)"
+SEP_REPS=5
+[ "${BENCH_QUICK:-0}" = 1 ] && SEP_REPS=2
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target separation_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/separation_bench" --file "$SO6" --reps "$SEP_REPS"
+
+# ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)
 say "6. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"

@@ -12,10 +12,13 @@
 #include "trailscope/core/json_text.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/core/text.hpp"
+#include "intervals.hpp"
 
 namespace trailscope::congestion {
 
 namespace {
+
+using namespace detail;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
@@ -41,53 +44,6 @@ double meridional_radius(double phi) {
 double normal_radius(double phi) {
   const double s = std::sin(phi);
   return kA / std::sqrt(1.0 - kE2 * s * s);
-}
-
-// The short-way longitude step of a segment, with positions.cpp's rule (|Δlon| > 180° in float).
-double lon_step(float a, float b) {
-  double d = static_cast<double>(b) - a;
-  if (std::fabs(b - a) > 180.0f) d += d > 0 ? -360.0 : 360.0;
-  return d;
-}
-
-double wrap_lon(double lon) {
-  lon = std::remainder(lon, 360.0);  // [-180, 180]
-  if (lon >= 180) lon -= 360;
-  return lon;
-}
-
-// A closed time interval [lo, hi]; empty when hi <= lo (single instants do not count: every condition
-// of an infringement is strict, or is a band whose edges have no duration).
-struct Iv {
-  double lo, hi;
-};
-
-// Where v0 + k·t' lies in [lo, hi] for t' in [0, len].
-Iv linear_within(double v0, double k, double lo, double hi, double len) {
-  if (k == 0) return (v0 >= lo && v0 <= hi) ? Iv{0, len} : Iv{0, 0};
-  double a = (lo - v0) / k, b = (hi - v0) / k;
-  if (a > b) std::swap(a, b);
-  return {std::max(a, 0.0), std::min(b, len)};
-}
-
-// In-place intersection of a sorted list of disjoint intervals with one interval / another list.
-void intersect(std::vector<Iv>& list, Iv iv) {
-  std::size_t n = 0;
-  for (const Iv& x : list) {
-    const Iv y{std::max(x.lo, iv.lo), std::min(x.hi, iv.hi)};
-    if (y.hi > y.lo) list[n++] = y;
-  }
-  list.resize(n);
-}
-void intersect(std::vector<Iv>& list, const std::vector<Iv>& other) {
-  std::vector<Iv> out;
-  for (const Iv& x : list)
-    for (const Iv& y : other) {
-      const Iv z{std::max(x.lo, y.lo), std::min(x.hi, y.hi)};
-      if (z.hi > z.lo) out.push_back(z);
-    }
-  std::sort(out.begin(), out.end(), [](const Iv& p, const Iv& q) { return p.lo < q.lo; });
-  list.swap(out);
 }
 
 // One aircraft on one segment, over a piece starting at time s: values at s and slopes per second.
@@ -124,11 +80,14 @@ struct Entry {
   double lon_lo, lon_hi;
 };
 
-// An infringement interval of a pair found within one bucket (possibly merged across pieces there).
-struct Span {
+// A part of a pair's time line within one bucket: an infringement (strict) or a stretch where the pair is
+// within the vertical minimum and the window's filters and at most kJoinToleranceM beyond the horizontal
+// minimum (relaxed), which joins the infringements on either side of it into one event.
+struct Part {
   std::uint32_t a, b;  // flight ids, a < b
   double start, end;
-  double cpa_t, cpa_h, cpa_v, min_v;
+  bool strict;
+  double cpa_t, cpa_h, cpa_v, min_v;   // strict parts only
   std::uint32_t cpa_seg_a, cpa_seg_b;  // segments holding cpa_t
 };
 
@@ -142,10 +101,27 @@ struct Context {
   double band_lo, band_hi;
 };
 
-// The exact solve over [lo, hi] for flights a and b (both with a trajectory there): appends the
-// infringement intervals, merging contiguous ones.
+double min_abs(double v0, double v1) {
+  return (v0 <= 0 && v1 >= 0) || (v0 >= 0 && v1 <= 0) ? 0.0 : std::min(std::fabs(v0), std::fabs(v1));
+}
+
+// Where a·x² + 2b·x + c < r² on [0, len] (a >= 0: convex, so one interval).
+Iv below(double a, double b, double c, double r, double len) {
+  const double cc = c - r * r;
+  if (a == 0) return cc < 0 ? Iv{0, len} : Iv{0, 0};
+  const double disc = b * b - a * cc;
+  if (!(disc > 0)) return {0, 0};
+  // Stable roots (Press et al., Numerical Recipes, 3rd ed., 2007, §5.6).
+  const double qq = -(b + std::copysign(std::sqrt(disc), b));
+  double r1 = qq / a, r2 = qq != 0 ? cc / qq : -r1;
+  if (r1 > r2) std::swap(r1, r2);
+  return {std::max(r1, 0.0), std::min(r2, len)};
+}
+
+// The exact solve over [lo, hi] for flights a and b: appends the parts of their time line, joining
+// contiguous parts of the same kind.
 void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo, double hi,
-                std::vector<Span>& out) {
+                std::vector<Part>& out) {
   const PointColumns& p = c.set.points();
   const Flight& A = c.set.flights()[fa];
   const Flight& B = c.set.flights()[fb];
@@ -156,25 +132,28 @@ void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo,
   // Segment i holds [t[i], t[i+1]] with t[i] <= lo < t[i+1].
   std::uint32_t ia = static_cast<std::uint32_t>(std::upper_bound(ta + A.begin, ta + A.end, lo) - ta) - 1;
   std::uint32_t ib = static_cast<std::uint32_t>(std::upper_bound(ta + B.begin, ta + B.end, lo) - ta) - 1;
-  const double H = c.m.horizontal_m, H2 = H * H;
+  const double H = c.m.horizontal_m, HR = H + kJoinToleranceM;
   const std::size_t first_out = out.size();
-  // Scratch reused across calls (this runs millions of times per day of traffic).
+  // Scratch reused across calls (this runs hundreds of thousands of times per day of traffic).
   thread_local std::vector<double> cuts;
-  thread_local std::vector<Iv> ok, other;
+  thread_local std::vector<Iv> relaxed, strict;
 
-  const auto emit = [&](double start, double end, double cpa_t, double cpa_h, double cpa_v, double min_v) {
+  const auto emit = [&](const Part& part) {
+    if (!(part.end > part.start)) return;
     if (out.size() > first_out) {
-      Span& last = out.back();
-      if (start - last.end <= kJoinGapSeconds) {  // contiguous (or a plane-switch gap): one event
-        last.end = end;
-        if (cpa_h < last.cpa_h)
-          last.cpa_t = cpa_t, last.cpa_h = cpa_h, last.cpa_v = cpa_v, last.cpa_seg_a = ia,
-          last.cpa_seg_b = ib;
-        last.min_v = std::min(last.min_v, min_v);
+      Part& last = out.back();
+      if (last.end == part.start && last.strict == part.strict) {
+        last.end = part.end;
+        if (part.strict) {
+          if (part.cpa_h < last.cpa_h)
+            last.cpa_t = part.cpa_t, last.cpa_h = part.cpa_h, last.cpa_v = part.cpa_v,
+            last.cpa_seg_a = part.cpa_seg_a, last.cpa_seg_b = part.cpa_seg_b;
+          last.min_v = std::min(last.min_v, part.min_v);
+        }
         return;
       }
     }
-    out.push_back({fa, fb, start, end, cpa_t, cpa_h, cpa_v, min_v, ia, ib});
+    out.push_back(part);
   };
 
   double s = lo;
@@ -184,9 +163,6 @@ void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo,
       const Lin la = on_segment(p, ia, s), lb = on_segment(p, ib, s);
       const double len = e - s;
       // Coarse rejection on the whole piece, with bounds that only under-estimate the distance.
-      const auto min_abs = [](double v0, double v1) {
-        return (v0 <= 0 && v1 >= 0) || (v0 >= 0 && v1 <= 0) ? 0.0 : std::min(std::fabs(v0), std::fabs(v1));
-      };
       const double dlat0 = lb.lat - la.lat, dlat1 = lb.lat_at(len) - la.lat_at(len);
       double dlon0 = lb.lon - la.lon, dlon1 = lb.lon_at(len) - la.lon_at(len);
       const double shift = wrap_lon(0.5 * (dlon0 + dlon1)) - 0.5 * (dlon0 + dlon1);
@@ -195,8 +171,8 @@ void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo,
       const double max_lat = std::max(
           {std::fabs(la.lat), std::fabs(la.lat_at(len)), std::fabs(lb.lat), std::fabs(lb.lat_at(len))});
       const double cos_max = std::cos(std::min(max_lat * kDeg, kPi / 2));
-      const bool far = min_abs(dlat0, dlat1) * kDeg * kMinMeridional >= H ||
-                       min_abs(dlon0, dlon1) * kDeg * kA * cos_max >= H || min_abs(dz0, dz1) >= c.v_max;
+      const bool far = min_abs(dlat0, dlat1) * kDeg * kMinMeridional >= HR ||
+                       min_abs(dlon0, dlon1) * kDeg * kA * cos_max >= HR || min_abs(dz0, dz1) >= c.v_max;
       if (!far) {
         // Sub-pieces: FL410 crossings of either aircraft, and latitude steps of kSubPieceLatDeg.
         cuts.assign({0.0, len});
@@ -222,52 +198,45 @@ void solve_pair(const Context& c, std::uint32_t fa, std::uint32_t fb, double lo,
           const double Z0 = lb.alt_at(u) - la.alt_at(u), Zv = lb.kalt - la.kalt;
           const bool high = la.alt_at(mid) > c.m.high_above_m || lb.alt_at(mid) > c.m.high_above_m;
           const double V = high ? c.m.vertical_high_m : c.m.vertical_m;
-          // Horizontal: A·x² + 2B·x + C0 < H², convex in x.
-          const double qa = Xv * Xv + Yv * Yv, qb = X0 * Xv + Y0 * Yv, qc = X0 * X0 + Y0 * Y0 - H2;
-          Iv hor{0, 0};
-          if (qa == 0) {
-            if (qc < 0) hor = {0, sl};
-          } else {
-            const double disc = qb * qb - qa * qc;
-            if (disc > 0) {
-              // Stable roots (Press et al., Numerical Recipes, 3rd ed., 2007, §5.6).
-              const double qq = -(qb + std::copysign(std::sqrt(disc), qb));
-              double r1 = qq / qa, r2 = qq != 0 ? qc / qq : -r1;
-              if (r1 > r2) std::swap(r1, r2);
-              hor = {std::max(r1, 0.0), std::min(r2, sl)};
-            }
-          }
-          if (!(hor.hi > hor.lo)) continue;
-          ok.assign({hor});
+          // Horizontal² = qa·x² + 2qb·x + qc, x = t - (s + u).
+          const double qa = Xv * Xv + Yv * Yv, qb = X0 * Xv + Y0 * Yv, qc = X0 * X0 + Y0 * Y0;
+          const Iv hor_relaxed = below(qa, qb, qc, HR, sl);
+          if (!(hor_relaxed.hi > hor_relaxed.lo)) continue;
+          relaxed.assign({hor_relaxed});
           // Vertical: |Z0 + Zv·x| < V.
-          intersect(ok, linear_within(Z0, Zv, -V, V, sl));
-          if (ok.empty()) continue;
+          intersect(relaxed, linear_within(Z0, Zv, -V, V, sl));
           // The window's altitude band and bbox, for both aircraft.
           for (const Lin* l : {&la, &lb}) {
-            if (c.has_band) intersect(ok, linear_within(l->alt_at(u), l->kalt, c.band_lo, c.band_hi, sl));
-            if (c.q.bbox && !ok.empty()) {
-              const BBox& bb = *c.q.bbox;
-              intersect(ok, linear_within(l->lat_at(u), l->klat, bb.south, bb.north, sl));
-              const double east = bb.west <= bb.east ? bb.east : bb.east + 360.0;
-              other.clear();
-              for (int w = -2; w <= 2; ++w) {
-                const Iv x = linear_within(l->lon_at(u), l->klon, bb.west + 360.0 * w, east + 360.0 * w, sl);
-                if (x.hi > x.lo) other.push_back(x);
-              }
-              std::sort(other.begin(), other.end(), [](const Iv& p1, const Iv& p2) { return p1.lo < p2.lo; });
-              intersect(ok, other);
-            }
+            if (relaxed.empty()) break;
+            if (c.has_band)
+              intersect(relaxed, linear_within(l->alt_at(u), l->kalt, c.band_lo, c.band_hi, sl));
+            if (c.q.bbox)
+              intersect_bbox(relaxed, l->lat_at(u), l->klat, l->lon_at(u), l->klon, *c.q.bbox, sl);
           }
-          for (const Iv& iv : ok) {
-            // CPA on [iv.lo, iv.hi]: the vertex of the parabola clamped; the earliest instant when flat.
-            double x = qa > 0 ? std::clamp(-qb / qa, iv.lo, iv.hi) : iv.lo;
-            const double h = std::hypot(X0 + Xv * x, Y0 + Yv * x);
-            const double z_lo = Z0 + Zv * iv.lo, z_hi = Z0 + Zv * iv.hi;
-            const double min_v = min_abs(z_lo, z_hi);
-            // Exact ends where the interval reaches the sub-piece's ends, so that neighbours join.
-            const double start = iv.lo <= 0 ? (u == 0 ? s : s + u) : s + u + iv.lo;
-            const double end = iv.hi >= sl ? (v == len ? e : s + v) : s + u + iv.hi;
-            if (end > start) emit(start, end, s + u + x, h, std::fabs(Z0 + Zv * x), min_v);
+          if (relaxed.empty()) continue;
+          // The strict parts lie inside the relaxed ones by construction (same list, narrower horizontal).
+          strict = relaxed;
+          intersect(strict, below(qa, qb, qc, H, sl));
+          // Absolute times: the sub-piece's own ends where an interval reaches them, so neighbours join.
+          const auto at = [&](double x) {
+            if (x <= 0) return u == 0 ? s : s + u;
+            if (x >= sl) return v == len ? e : s + v;
+            return s + u + x;
+          };
+          std::size_t j = 0;
+          for (const Iv& r : relaxed) {
+            double cur = r.lo;
+            for (; j < strict.size() && strict[j].lo < r.hi; ++j) {
+              const Iv& iv = strict[j];
+              emit({fa, fb, at(cur), at(iv.lo), false, 0, 0, 0, 0, 0, 0});
+              // CPA on [iv.lo, iv.hi]: the vertex of the parabola clamped; the earliest instant when flat.
+              const double x = qa > 0 ? std::clamp(-qb / qa, iv.lo, iv.hi) : iv.lo;
+              const double h = std::hypot(X0 + Xv * x, Y0 + Yv * x);
+              const double min_v = min_abs(Z0 + Zv * iv.lo, Z0 + Zv * iv.hi);
+              emit({fa, fb, at(iv.lo), at(iv.hi), true, s + u + x, h, std::fabs(Z0 + Zv * x), min_v, ia, ib});
+              cur = iv.hi;
+            }
+            emit({fa, fb, at(cur), at(r.hi), false, 0, 0, 0, 0, 0, 0});
           }
         }
       }
@@ -333,19 +302,22 @@ SeparationResult losses_of_separation(const TrailSet& set, const Query& q, const
   res.flights = selected.size();
 
   // ---- 1. boxes per flight and bucket ------------------------------------------------------------------
-  // Why the hash never misses a pair. Say a and b infringe at instant t of bucket k. The solve measures
-  // dy = M(φ0)·Δφ(t) and dx = N(φ0)·cos(φ0)·Δλ(t), with φ0 the pair's mean latitude at the middle of a
-  // sub-piece; sub-pieces lie within one bucket (the solve runs per bucket), so each aircraft's latitude at
-  // that middle instant is inside its own box of bucket k, and |φ0| <= max(Φa, Φb) with Φ the largest
-  // |latitude| of a box. From horizontal < H: |Δφ(t)| < H / M(φ0) <= H / (a(1-e²)) and
-  // |Δλ(t)| < H / (N(φ0)·cos φ0) <= H / (a·cos(max(Φa, Φb))) = max(ha, hb) with h = H / (a·cos Φ). Both
-  // positions at t lie in their boxes, so the boxes are closer than those bounds in latitude and in
-  // longitude (the short way). Each box is grown by H / (a(1-e²)) / 2 in latitude and by its own h in
-  // longitude (h_a + h_b >= max(ha, hb)): the grown boxes overlap, and the overlap lies in some cell both
-  // were inserted into. The altitude ranges overlap once grown by the larger vertical minimum. Growth is
-  // further scaled by kSafety against rounding.
+  // Why the hash never misses a pair. Let H' = horizontal_m + kJoinToleranceM (the solve looks for
+  // strict parts below H and for the relaxed parts that join them below H'). Say a and b are within H' at
+  // an instant t of bucket k. The solve measures dy = M(φ0)·Δφ(t) and dx = N(φ0)·cos(φ0)·Δλ(t), with φ0
+  // the pair's mean latitude at the middle of a sub-piece; sub-pieces lie within one bucket (the solve
+  // runs per bucket), so each aircraft's latitude at that middle instant is inside its own box of bucket
+  // k, and |φ0| <= max(Φa, Φb) with Φ the largest |latitude| of a box. From horizontal < H':
+  // |Δφ(t)| < H' / M(φ0) <= H' / (a(1-e²)) and |Δλ(t)| < H' / (N(φ0)·cos φ0) <= H' / (a·cos(max(Φa, Φb)))
+  // = max(ha, hb) with h = H' / (a·cos Φ). Both positions at t lie in their boxes, so the boxes are closer
+  // than those bounds in latitude and in longitude (the short way). Each box is grown by
+  // H' / (a(1-e²)) / 2 in latitude and by its own h in longitude (h_a + h_b >= max(ha, hb)): the grown
+  // boxes overlap, and the overlap lies in some cell both were inserted into (cells wrap at 180°). The
+  // altitude ranges overlap once grown by half the larger vertical minimum each. Growth is further
+  // scaled by kSafety, and float bounds rounded outwards, against rounding.
   constexpr double kSafety = 1.001;
-  const double lat_grow = kSafety * 0.5 * m.horizontal_m / kMinMeridional / kDeg;
+  const double h_reach = m.horizontal_m + kJoinToleranceM;
+  const double lat_grow = kSafety * 0.5 * h_reach / kMinMeridional / kDeg;
   std::vector<std::vector<Entry>> per_flight(selected.size());
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, selected.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -398,7 +370,7 @@ SeparationResult losses_of_separation(const TrailSet& set, const Query& q, const
           for (Entry& en : out) {
             const double big = std::max(std::fabs(en.lat_lo), std::fabs(en.lat_hi));
             const double cosb = std::cos(std::min(big, 90.0) * kDeg);
-            const double h = cosb > 1e-9 ? kSafety * m.horizontal_m / (kA * cosb) / kDeg : 360.0;
+            const double h = cosb > 1e-9 ? kSafety * h_reach / (kA * cosb) / kDeg : 360.0;
             en.lat_lo = static_cast<float>(en.lat_lo - lat_grow),
             en.lat_hi = static_cast<float>(en.lat_hi + lat_grow);
             en.lat_lo = std::nextafter(en.lat_lo, -kInf), en.lat_hi = std::nextafter(en.lat_hi, kInf);
@@ -427,7 +399,7 @@ SeparationResult losses_of_separation(const TrailSet& set, const Query& q, const
   }
 
   // ---- 2. per bucket: candidate pairs from the hash, then the exact solve ------------------------------
-  std::vector<std::vector<Span>> spans(n_buckets);
+  std::vector<std::vector<Part>> spans(n_buckets);
   std::vector<std::size_t> candidates(n_buckets, 0);
   std::vector<std::vector<std::uint64_t>> tested(n_buckets);
   const auto do_bucket = [&](std::size_t k) {
@@ -490,36 +462,46 @@ SeparationResult losses_of_separation(const TrailSet& set, const Query& q, const
 
   // ---- 3. merge each pair's contiguous intervals across buckets into events ---------------------------
   std::vector<std::uint64_t> all_tested;
-  std::vector<Span> all;
+  std::vector<Part> all;
   for (std::size_t k = 0; k < n_buckets; ++k) {
     res.candidate_pairs += candidates[k];
     all_tested.insert(all_tested.end(), tested[k].begin(), tested[k].end());
     all.insert(all.end(), spans[k].begin(), spans[k].end());
+    std::vector<Part>().swap(spans[k]);
   }
   std::sort(all_tested.begin(), all_tested.end());
   res.pairs_tested =
       static_cast<std::size_t>(std::unique(all_tested.begin(), all_tested.end()) - all_tested.begin());
-  std::sort(all.begin(), all.end(), [](const Span& x, const Span& y) {
+  std::sort(all.begin(), all.end(), [](const Part& x, const Part& y) {
     if (x.a != y.a) return x.a < y.a;
     if (x.b != y.b) return x.b < y.b;
     return x.start < y.start;
   });
-  std::vector<Span> merged;
-  for (const Span& sp : all) {
-    if (!merged.empty() && merged.back().a == sp.a && merged.back().b == sp.b &&
-        sp.start - merged.back().end <= kJoinGapSeconds) {
-      Span& last = merged.back();
-      last.end = sp.end;
-      if (sp.cpa_h < last.cpa_h)
-        last.cpa_t = sp.cpa_t, last.cpa_h = sp.cpa_h, last.cpa_v = sp.cpa_v, last.cpa_seg_a = sp.cpa_seg_a,
-        last.cpa_seg_b = sp.cpa_seg_b;
-      last.min_v = std::min(last.min_v, sp.min_v);
+  // Chains of contiguous parts of one pair; each chain with a strict part is one event, from its first
+  // strict start to its last strict end.
+  std::vector<Part> merged;
+  std::uint64_t last_pair = ~std::uint64_t{0};
+  bool open = false;  // merged.back() is the event of the current chain
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const Part& part = all[i];
+    const bool chained =
+        i > 0 && all[i - 1].a == part.a && all[i - 1].b == part.b && all[i - 1].end == part.start;
+    if (!chained) open = false;
+    if (!part.strict) continue;
+    if (open) {
+      Part& ev = merged.back();
+      ev.end = part.end;
+      if (part.cpa_h < ev.cpa_h)
+        ev.cpa_t = part.cpa_t, ev.cpa_h = part.cpa_h, ev.cpa_v = part.cpa_v, ev.cpa_seg_a = part.cpa_seg_a,
+        ev.cpa_seg_b = part.cpa_seg_b;
+      ev.min_v = std::min(ev.min_v, part.min_v);
     } else {
-      if (!merged.empty() && (merged.back().a != sp.a || merged.back().b != sp.b)) ++res.pairs_with_events;
-      merged.push_back(sp);
+      merged.push_back(part);
+      open = true;
+      const std::uint64_t pair = static_cast<std::uint64_t>(part.a) << 32 | part.b;
+      if (pair != last_pair) ++res.pairs_with_events, last_pair = pair;
     }
   }
-  if (!merged.empty()) ++res.pairs_with_events;
   if (merged.size() > limits::kMaxSeparationEvents)
     throw Error(Error::Kind::payload_too_large, "max_events",
                 std::to_string(merged.size()) + " losses of separation in the window, more than " +
@@ -527,7 +509,7 @@ SeparationResult losses_of_separation(const TrailSet& set, const Query& q, const
                     "; narrow it with t0/t1, bbox, alt_min/alt_max, callsign or icao24");
 
   res.events.reserve(merged.size());
-  for (const Span& sp : merged) {
+  for (const Part& sp : merged) {
     const Flight& A = flights[sp.a];
     const Flight& B = flights[sp.b];
     SeparationEvent ev;

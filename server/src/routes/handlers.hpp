@@ -22,6 +22,8 @@ Response get_job(App& app, const Request& req, const PathParams& p);
 Response cancel_job(App& app, const Request& req, const PathParams& p);
 
 Response density_tile(App& app, const Request& req, const PathParams& p);
+/// The thresholded congestion map of simultaneous aircraft (trailscope/congestion/congestion_map.hpp).
+Response congestion_tile(App& app, const Request& req, const PathParams& p);
 
 Response create_graph(App& app, const Request& req, const PathParams& p);
 

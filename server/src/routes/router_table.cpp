@@ -111,6 +111,9 @@ Router make_router(App& app) {
   r.add("DELETE", "/api/v1/sectors/{sectors}", delete_handler(app, sectors));  // 204 404
   r.add("POST", "/api/v1/congestion", bind(create_congestion));                // 202 400 404 413 422
   r.add("GET", "/api/v1/congestion/{job}", bind(get_congestion));              // 200 400 404 409
+  // The congestion map of simultaneous aircraft (routes/congestion_tiles.cpp).
+  r.add("GET", "/api/v1/datasets/{dataset}/congestion/tiles/{z}/{x}/{y}.png",
+        bind(congestion_tile));  // 200 304 400 404
   // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });

@@ -33,14 +33,16 @@
 // (checked by tests/compute/congestion/separation_test.cpp): below 3 m, dominated by φ0 being fixed
 // over a sub-piece (latitude drifts by at most kSubPieceLatDeg/2 from the middle).
 //
-// Events: for each pair, the maximal time intervals where the infringement holds; two intervals of one
-// pair merge when contiguous (one ends exactly where the next starts, e.g. at a sample time or at an
-// FL410 crossing) or when the gap between them is at most kJoinGapSeconds. The tolerance exists because
-// the tangent plane changes from one sub-piece to the next: the distance jumps there by up to the error
-// below, and an encounter that grazes the 5 NM circle exactly at such a cut could otherwise come out as
-// two events milliseconds apart. Any longer gap separates two events. Events are clipped to the window
-// [t0, t1): an event in progress at t0 starts at t0, one in progress at t1 ends at t1 (and then
-// clipped_start / clipped_end say so).
+// Events: for each pair, the maximal time intervals where the infringement holds, joined into one event
+// when they are contiguous (one ends exactly where the next starts, e.g. at a sample time or at an FL410
+// crossing) or when, all the time between them, the pair stays within the vertical minimum (and the
+// window's bbox and band) and no more than kJoinToleranceM beyond the horizontal minimum. That tolerance
+// is the bound of the tangent-plane error above: the plane changes from one sub-piece to the next, the
+// distance jumps there by up to that error, and an encounter that grazes the 5 NM circle exactly at such
+// a cut would otherwise come out as two events milliseconds apart. Any other gap separates two events
+// (an aircraft that climbs through the vertical minimum and back makes two events, however briefly).
+// Events are clipped to the window [t0, t1): an event in progress at t0 starts at t0, one in progress
+// at t1 ends at t1 (and then clipped_start / clipped_end say so).
 //
 // Closest point of approach (CPA) of an event: the instant in [t_start, t_end] of least horizontal
 // distance; ties (a constant distance, e.g. two aircraft in formation) go to the earliest instant.
@@ -74,8 +76,9 @@ namespace trailscope::congestion {
 inline constexpr double kMetresPerNm = 1852.0;
 /// Largest latitude change (degrees) of either aircraft within one sub-piece of the tangent-plane solve.
 inline constexpr double kSubPieceLatDeg = 0.01;
-/// Gaps between two infringement intervals of one pair up to this long (seconds) are joined (see above).
-inline constexpr double kJoinGapSeconds = 1.0;
+/// How far beyond the horizontal minimum (metres) a pair may be between two infringements that are
+/// joined into one event (see above): the bound of the tangent-plane error.
+inline constexpr double kJoinToleranceM = 3.0;
 /// Length of the time buckets of the candidate-pair hash (seconds).
 inline constexpr double kBucketSeconds = 60.0;
 
