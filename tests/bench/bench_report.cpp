@@ -885,6 +885,8 @@ int main(int argc, char** argv) {
                            ms(r, "ms_p50") + " ms (p95 " + ms(r, "ms_p95") + ")", dbl(r, "ms_p95") < limit});
       }
       body << "\n";
+    }
+
     // ---- 10. losses of separation -------------------------------------------------------------------
     if (const json* r = find1("separation", {{"label", "so6_europe_day"}})) {
       const double s = dbl(r, "s_p50");

@@ -114,10 +114,10 @@ void print_counts(const congestion::CountsResult& c, const server::CongestionOut
     std::stable_sort(cells.begin(), cells.end(), [](auto* a, auto* b) { return a->score() > b->score(); });
     cells.resize(std::min(cells.size(), top));
     if (!cells.empty())
-      std::printf("%-16s %-20s %12s %12s %9s %10s %8s\n", "volume", "hour", "flight h", "interaction h",
+      std::printf("%-16s %-20s %12s %13s %9s %10s %8s\n", "volume", "hour", "flight h", "interaction h",
                   "density", "structural", "score");
     for (const auto* cell : cells)
-      std::printf("%-16s %-20s %12.2f %12.3f %9.2f %10.3f %8.3f\n", c.volumes[cell->volume].id.c_str(),
+      std::printf("%-16s %-20s %12.2f %13.3f %9.2f %10.3f %8.3f\n", c.volumes[cell->volume].id.c_str(),
                   iso_utc(c.t0 + 3600.0 * cell->hour).c_str(), cell->flight_hours, cell->interaction_hours,
                   cell->adjusted_density(), cell->structural_index(), cell->score());
   }

@@ -55,7 +55,8 @@
 //   - horizontal / vertical / speed hours: the part of interaction_hours during which the pair's
 //     headings differ by more than heading_deg (20°), their vertical attitudes (climbing: vertical
 //     rate > +vrate_fpm, descending: < -vrate_fpm, cruising otherwise; 500 ft/min) differ, or their
-//     ground speeds differ by more than speed_kt (35 kt). The thresholds are the PRU report's.
+//     ground speeds differ by more than speed_kt (35 kt). The PRU report defines the three kinds of
+//     interaction; the numbers are defaults, settable per request (ComplexityParams).
 //     Heading, ground speed and vertical rate are those of the flight's VISIT of the volume (a maximal
 //     interval of its inside set): heading atan2(Δlon·cos φm, Δlat) from the entry point to the exit
 //     point (φm their mean latitude; no horizontal interaction when they coincide), speed = the
@@ -96,7 +97,7 @@ const char* to_string(Method m) noexcept;
 /// Reads "interpolated" or "samples"; throws invalid_argument("method") otherwise.
 Method parse_method(const std::string& text);
 
-/// The PRU's interaction thresholds (EUROCONTROL PRU 2006).
+/// Thresholds of the PRU's three kinds of interaction (EUROCONTROL PRU 2006); defaults, settable.
 struct ComplexityParams {
   double heading_deg = 20.0;  ///< horizontal interaction above this heading difference, (0, 180)
   double speed_kt = 35.0;     ///< speed interaction above this ground-speed difference, > 0
