@@ -99,28 +99,25 @@ nlohmann::json wire(const nlohmann::json& j) {
   return nlohmann::json::parse(json_text(j));
 }
 
-/// Whether `a` and `b` are equal, numbers within a relative 1e-12: the complexity figures are sums that
-/// congestion::count() forms in parallel, so two runs on the same data may differ in the last bit.
-bool near(const nlohmann::json& a, const nlohmann::json& b) {
-  if (a.is_number() && b.is_number()) {
-    const double x = a.get<double>(), y = b.get<double>();
-    return x == y || std::fabs(x - y) <= 1e-12 * std::max(std::fabs(x), std::fabs(y));
-  }
+/// Whether `a` and `b` are equal, numbers as doubles (an integer and the same double are equal): the
+/// complexity figures are sums that congestion::count() adds in a fixed order, so runs agree to the bit.
+bool same_values(const nlohmann::json& a, const nlohmann::json& b) {
+  if (a.is_number() && b.is_number()) return a.get<double>() == b.get<double>();
   if (a.type() != b.type() || a.size() != b.size()) return false;
   if (a.is_object()) {
     for (auto it = a.begin(); it != a.end(); ++it)
-      if (!b.contains(it.key()) || !near(it.value(), b[it.key()])) return false;
+      if (!b.contains(it.key()) || !same_values(it.value(), b[it.key()])) return false;
     return true;
   }
   if (a.is_array()) {
     for (std::size_t i = 0; i < a.size(); ++i)
-      if (!near(a[i], b[i])) return false;
+      if (!same_values(a[i], b[i])) return false;
     return true;
   }
   return a == b;
 }
 
-/// The counts equal (everything but the complexity figures exactly; those as near() says), and on failure
+/// The counts equal (everything, the complexity figures included, exactly), and on failure
 /// the JSON patch from one to the other rather than both whole answers.
 void expect_same(const nlohmann::json& a, const nlohmann::json& b) {
   nlohmann::json x = a, y = b;
@@ -128,10 +125,10 @@ void expect_same(const nlohmann::json& a, const nlohmann::json& b) {
   const nlohmann::json cy = y.contains("complexity") ? y["complexity"] : nlohmann::json();
   x.erase("complexity"), y.erase("complexity");
   EXPECT_TRUE(x == y) << nlohmann::json::diff(x, y).dump().substr(0, 4000);
-  EXPECT_TRUE(near(cx, cy)) << nlohmann::json::diff(cx, cy).dump().substr(0, 4000);
+  EXPECT_TRUE(same_values(cx, cy)) << nlohmann::json::diff(cx, cy).dump().substr(0, 4000);
 }
 
-/// CSV texts equal cell by cell, numbers as near() says.
+/// CSV texts equal cell by cell, numbers exactly.
 void expect_same_csv(const std::string& a, const std::string& b) {
   std::istringstream ia(a), ib(b);
   std::string la, lb;
@@ -150,7 +147,7 @@ void expect_same_csv(const std::string& a, const std::string& b) {
       if (xa.empty() || *ea || *eb)
         EXPECT_EQ(xa, xb) << la << " vs " << lb;
       else
-        EXPECT_TRUE(near(va, vb)) << la << " vs " << lb;
+        EXPECT_TRUE(same_values(va, vb)) << la << " vs " << lb;
     }
   }
   EXPECT_FALSE(std::getline(ib, lb)) << "extra line: " << lb;

@@ -780,8 +780,13 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
                      [](const StepRange& x, const StepRange& y) { return x.key < y.key; });
   tbb::parallel_sort(entries.begin(), entries.end(),
                      [](const EntryRange& x, const EntryRange& y) { return x.key < y.key; });
+  // A total order (volume, start, flight, end): the complexity sums are then added in the same order on
+  // every run, so the same request gives the same bits whatever the thread count or scheduling.
   tbb::parallel_sort(cvisits.begin(), cvisits.end(), [](const CVisit& x, const CVisit& y) {
-    return x.key != y.key ? x.key < y.key : x.a < y.a;
+    if (x.key != y.key) return x.key < y.key;
+    if (x.a != y.a) return x.a < y.a;
+    if (x.flight != y.flight) return x.flight < y.flight;
+    return x.b < y.b;
   });
 
   // Volumes.
