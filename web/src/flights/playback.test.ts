@@ -70,10 +70,11 @@ describe('filters during playback', () => {
   it('altitude band in metres, callsign prefix, bbox', () => {
     expect(trafficFilter({ ...EMPTY_FILTERS }, null)).toEqual({});
     const f = trafficFilter({ ...EMPTY_FILTERS, altMin: 20000, altMax: 40000, callsign: ' dlh ' }, [1, 2, 3, 4]);
-    expect(f).toEqual({ altMinM: 6096, altMaxM: 12192, callsignPrefix: 'DLH', bbox: [1, 2, 3, 4] });
-    // A pattern is applied up to its first wildcard.
-    expect(trafficFilter({ ...EMPTY_FILTERS, callsign: 'baw1*' }, null).callsignPrefix).toBe('BAW1');
-    expect(trafficFilter({ ...EMPTY_FILTERS, callsign: '*X' }, null).callsignPrefix).toBeUndefined();
+    expect(f).toEqual({ altMinM: 6096, altMaxM: 12192, callsign: 'DLH', bbox: [1, 2, 3, 4] });
+    // The pattern goes whole (the API's rule applies it), and the addresses as the API's query has them.
+    expect(trafficFilter({ ...EMPTY_FILTERS, callsign: 'baw1*' }, null).callsign).toBe('BAW1*');
+    expect(trafficFilter({ ...EMPTY_FILTERS, callsign: '*X' }, null).callsign).toBe('*X');
+    expect(trafficFilter({ ...EMPTY_FILTERS, icao24: '4CA7B5 a1b2c3' }, null).icao24).toEqual(['4ca7b5', 'a1b2c3']);
   });
 });
 

@@ -13,7 +13,7 @@ import { COLOR_BY_LABELS, legendGradient, legendTicks } from './playbackLegend';
 import { PLAYBACK_KEYS, ownsKeys, playbackAction } from './playbackKeys';
 import type { BundleStreamHandle } from './bundleStream';
 import type { Filters } from '../api/query';
-import { normalizeCallsign } from '../api/query';
+import { normalizeCallsign, normalizeIcao24 } from '../api/query';
 import type { BBox } from '../api/types';
 import { h, mount } from '../lib/dom';
 import { formatBytes, formatDuration, formatFlightLevel, formatInt, formatSpeed as formatGroundSpeed } from '../lib/format';
@@ -50,10 +50,11 @@ export function trafficFilter(f: Filters, bbox: BBox | null): TrafficFilter {
   const FT = 0.3048;
   if (f.altMin !== null) out.altMinM = f.altMin * FT;
   if (f.altMax !== null) out.altMaxM = f.altMax * FT;
-  // The layer filters by callsign prefix: a pattern is applied up to its first wildcard (a superset).
-  const cs = normalizeCallsign(f.callsign).split(',')[0] ?? '';
-  const prefix = cs.split(/[*?]/)[0] ?? '';
-  if (prefix) out.callsignPrefix = prefix;
+  // The same callsign pattern and addresses the API's queries get (buildQuery), matched by the API's rule.
+  const cs = normalizeCallsign(f.callsign);
+  if (cs) out.callsign = cs;
+  const icao = normalizeIcao24(f.icao24);
+  if (icao) out.icao24 = icao.split(',');
   if (bbox) out.bbox = [bbox[0], bbox[1], bbox[2], bbox[3]];
   return out;
 }

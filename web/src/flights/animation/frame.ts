@@ -2,7 +2,7 @@
 // positionsAt() reports are the same numbers.
 
 import { bracket, emptyState, stateAt, type FlightState } from './interp';
-import { callsignPasses, positionPasses, type CompiledFilter } from './filter';
+import { flightPasses, positionPasses, type CompiledFilter } from './filter';
 import type { TsanChunk } from './tsan';
 
 /** Aircraft drawn at an instant: flight indices into the chunk and their states (parallel arrays). */
@@ -49,7 +49,7 @@ export function frameAt(chunk: TsanChunk, t: number, filter: CompiledFilter, hin
     const a = bracket(chunk, f, tRel, hints ? hints[f]! : -1);
     if (hints) hints[f] = a;
     if (a < 0) continue;
-    if (filter.prefix !== '' && !callsignPasses(filter, chunk.callsign[f]!)) continue;
+    if (filter.byFlight && !flightPasses(filter, chunk.callsign[f]!, chunk.icao24[f]!)) continue;
     stateAt(chunk, a, t, st);
     if (filter.active && !positionPasses(filter, st.lon, st.lat, st.altM)) continue;
     fr.flight[n] = f;

@@ -14,7 +14,7 @@ import type { TsanChunk } from './tsan';
 import type { Frame } from './frame';
 import type { CompiledFilter } from './filter';
 import { WORLD_M, lonToMercX, latToMercY } from './interp';
-import { callsignPasses } from './filter';
+import { flightPasses } from './filter';
 import { PALETTE, RAMPS, callsignPrefix, paletteTexels, prefixCategory, rampTexels } from './colors';
 import type { ColorBy } from './types';
 
@@ -341,13 +341,13 @@ export class TrafficGl {
     return g;
   }
 
-  /** Per flight: passes the callsign filter, selected, callsign category (255 = none). */
+  /** Per flight: passes the flight-level filters (callsign, icao24), selected, callsign category (255 = none). */
   private fillFlights(g: ChunkGpu, filter: CompiledFilter, selected: number | null) {
     const c = g.chunk;
     const px = new Uint8Array(FLIGHT_TEX_W * g.flightTexH * 4);
     for (let f = 0; f < c.nFlights; f++) {
       const cs = c.callsign[f]!;
-      px[4 * f] = filter.prefix === '' || callsignPasses(filter, cs) ? 255 : 0;
+      px[4 * f] = !filter.byFlight || flightPasses(filter, cs, c.icao24[f]!) ? 255 : 0;
       px[4 * f + 1] = selected !== null && c.flightId[f] === selected ? 255 : 0;
       const cat = prefixCategory(callsignPrefix(cs));
       px[4 * f + 2] = cat < 0 ? 255 : cat;

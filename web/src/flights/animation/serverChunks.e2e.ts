@@ -80,7 +80,7 @@ describe(`animation chunks of ${DATASET} against its positions`, async () => {
     compare(chunk, t, await positions(t, '&bbox=0,45,15,55'), { bbox: [0, 45, 15, 55] });
     const all = await positions(t);
     const pre = all.find((p) => p.callsign.length >= 3)!.callsign.slice(0, 3);
-    compare(chunk, t, all.filter((p) => p.callsign.toUpperCase().startsWith(pre)), { callsignPrefix: pre });
+    compare(chunk, t, all.filter((p) => p.callsign.toUpperCase().startsWith(pre)), { callsign: pre });
   });
 
   it('a chunk revalidates with its ETag', async () => {

@@ -162,7 +162,7 @@ describe('positions drawn = the API rule, to the metre', () => {
     expect(box.n).toBe(ref.filter((r) => r.lon >= 0 && r.lon <= 15 && r.lat >= 40 && r.lat <= 55).length);
     const wrap = frameAt(c, t, compileFilter({ bbox: [15, 30, 0, 70] })); // everything but 0..15°E
     expect(wrap.n).toBe(ref.filter((r) => r.lon >= 15 || r.lon <= 0).length);
-    const pre = frameAt(c, t, compileFilter({ callsignPrefix: 'ab1' }));
+    const pre = frameAt(c, t, compileFilter({ callsign: 'ab1' }));
     expect(pre.n).toBe(ref.filter((r) => fl.find((f) => f.id === r.id)!.callsign.startsWith('AB1')).length);
     expect(pre.n).toBeGreaterThan(0);
   });

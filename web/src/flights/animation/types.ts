@@ -8,8 +8,13 @@ export interface TrafficFilter {
   /** Altitude band in metres, edges included; an unknown altitude fails any band (as the API's filter). */
   altMinM?: number;
   altMaxM?: number;
-  /** Case-insensitive callsign prefix; flights without callsign fail a non-empty prefix. */
-  callsignPrefix?: string;
+  /**
+   * Callsign pattern, the API's rule (compute's callsign_matches): `*` any run, `?` one character, no
+   * wildcard = prefix; case-insensitive. Flights without callsign fail a non-empty pattern.
+   */
+  callsign?: string;
+  /** ICAO 24-bit addresses (hex, any case); a flight passes when its address is one of them. */
+  icao24?: string[];
   /** [west, south, east, north] in degrees; west > east crosses 180°. Applies to the drawn position. */
   bbox?: [number, number, number, number];
 }
