@@ -683,7 +683,7 @@ int main(int argc, char** argv) {
                                         : (r->contains("variant") ? str(r, "variant") : std::string()))
              << " |\n";
       }
-      // Issue 5's target: t-SNE of 5,000 × 50 ≤ 5 s with PoCL, ≥ 10× faster than the fastest npm peer at
+      // The projection target: t-SNE of 5,000 × 50 ≤ 5 s with PoCL, ≥ 10× faster than the fastest npm peer at
       // 5,000 rows, trustworthiness no more than 0.01 below that peer's.
       if (const json* o = find1("projection", {{"method", "tsne"}, {"n", "5000"}, {"backend", "opencl"}});
           o && o->contains("ms")) {
