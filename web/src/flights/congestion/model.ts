@@ -431,19 +431,8 @@ export function parseSeriesCsv(text: string): SeriesRow[] {
   });
 }
 
-export interface HotspotRow {
-  volume: string;
-  kind: HotspotKind;
-  first_step: number;
-  last_step: number;
-  start: number;
-  end: number;
-  peak: number;
-  peak_time: number;
-  threshold: number;
-  excess: number;
-  flights: number[];
-}
+/** A hotspot as its CSV table has it: the wire hotspot with flight ids only. */
+export type HotspotRow = Omit<WireHotspot, 'flights'> & { flights: number[] };
 
 /** The "hotspots" table (flight ids joined by spaces). */
 export function parseHotspotsCsv(text: string): HotspotRow[] {
