@@ -11,8 +11,28 @@
 #include <nlohmann/json.hpp>
 
 #include "trailscope/core/json_text.hpp"
+#include "trailscope/core/progress.hpp"
 
 namespace trailscope::server {
+
+/// What a caller may do, in increasing order: each role may do what the ones before it may. `anyone` needs
+/// no token (health, the browser app's files); `reader` reads; `writer` creates, and deletes what it owns;
+/// `admin` also deletes anything and manages tokens. A route names the least role it needs
+/// (routes/router.hpp).
+enum class Role { anyone, reader, writer, admin };
+
+/// Who sent a request, as the access check found it: the token's id and owner name and its role, or
+/// anonymous (no valid token: role `anyone`, empty owner).
+struct Principal {
+  std::string token_id;  ///< the public half of the token ("" when anonymous)
+  std::string owner;     ///< the owner name resources record ("" when anonymous)
+  Role role = Role::anyone;
+  bool anonymous() const { return token_id.empty(); }
+  /// True when this caller may delete or cancel what `resource_owner` created: its owner, or an admin.
+  bool may_modify(const std::string& resource_owner) const {
+    return role == Role::admin || (!anonymous() && owner == resource_owner);
+  }
+};
 
 struct Request {
   std::string method;                          ///< "GET", "POST", ...
@@ -21,6 +41,10 @@ struct Request {
   std::map<std::string, std::string> headers;  ///< lower-case names
   std::string body;                            ///< small bodies
   std::filesystem::path body_file;             ///< streamed upload, when set (the handler takes ownership)
+  Principal principal;                         ///< set by the access check before the handler runs
+  /// Set when the client has gone away or the request's deadline has passed (routes on Lane::compute);
+  /// a handler passes it to the compute/ function it calls. Null on the I/O lane.
+  std::shared_ptr<const CancelToken> cancel;
   std::string header(const std::string& name) const {
     auto it = headers.find(name);
     return it == headers.end() ? std::string() : it->second;

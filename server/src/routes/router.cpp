@@ -43,12 +43,16 @@ bool match_route(const std::string& pattern, const std::string& path, PathParams
   return true;
 }
 
-void Router::add(std::string method, std::string pattern, Handler handler, BodyRule body) {
-  routes_.push_back({std::move(method), std::move(pattern), std::move(handler), std::move(body)});
+Router::Route& Router::add(std::string method, std::string pattern, Handler handler, BodyRule body) {
+  const Role role = method == "GET" ? Role::reader : Role::writer;
+  routes_.push_back({std::move(method), std::move(pattern), std::move(handler), std::move(body),
+                     WebSocketKind::none, role});
+  return routes_.back();
 }
 
-void Router::add_websocket(std::string pattern, WebSocketKind kind, Handler check) {
-  routes_.push_back({"GET", std::move(pattern), std::move(check), {}, kind});
+Router::Route& Router::add_websocket(std::string pattern, WebSocketKind kind, Handler check) {
+  routes_.push_back({"GET", std::move(pattern), std::move(check), {}, kind, Role::reader});
+  return routes_.back();
 }
 
 BodyRule Router::body_rule(const std::string& method, const std::string& path) const {

@@ -23,6 +23,12 @@ struct BodyRule {
   std::string name = "request body";
 };
 
+/// Where a route's handler runs. `io`: on the network thread that read the request (cheap lookups and cached
+/// answers). `compute`: on the bounded compute pool, behind its queue limit, with a deadline and a
+/// CancelToken (Request::cancel) set when the client goes away, so that heavy work never holds a network
+/// thread.
+enum class Lane { io, compute };
+
 /// The WebSocket session an upgrade route opens: job events (WsHub), a replay viewer, or a bundle stream.
 enum class WebSocketKind { none, events, replay, bundle_stream };
 
@@ -36,6 +42,18 @@ class Router {
     /// Not none: a WebSocket upgrade (GET), whose handler checks the request before the upgrade (a thrown
     /// error refuses it). Plain requests never reach it.
     WebSocketKind websocket = WebSocketKind::none;
+    /// The least role a caller needs (Role in routes/http_types.hpp): by default `reader` for GET and
+    /// `writer` for every other method; the table names the exceptions.
+    Role role = Role::reader;
+    Lane lane = Lane::io;
+    Route& needs(Role r) {
+      role = r;
+      return *this;
+    }
+    Route& on(Lane l) {
+      lane = l;
+      return *this;
+    }
   };
   /// The route of a WebSocket upgrade request, or why it is refused.
   struct Upgrade {
@@ -44,9 +62,12 @@ class Router {
     Response refusal;
   };
 
-  void add(std::string method, std::string pattern, Handler handler, BodyRule body = {});
-  /// A WebSocket upgrade route (GET `pattern`); `check` answers anything (e.g. status 101) to accept.
-  void add_websocket(std::string pattern, WebSocketKind kind, Handler check);
+  /// Adds a route and returns it, so that the table can name its role and lane:
+  /// `r.add("POST", "/api/v1/projections", h).on(Lane::compute);`. The reference is valid until the next add.
+  Route& add(std::string method, std::string pattern, Handler handler, BodyRule body = {});
+  /// A WebSocket upgrade route (GET `pattern`, role `reader`); `check` answers anything (e.g. status 101)
+  /// to accept.
+  Route& add_websocket(std::string pattern, WebSocketKind kind, Handler check);
   /// Finds the route and runs it. Unknown paths give 404, a known path with another method 405; any
   /// exception becomes the error table's response.
   Response handle(const Request& req) const;

@@ -35,36 +35,44 @@ Router make_router(App& app) {
   const Collection<RunStore> runs{&App::runs, "runs", "run", "a run store"};
   const Collection<MotStore> mot{&App::mot, "files", "mot", "a MOT store"};
   const Collection<SweepStore> sweeps{&App::sweeps, "sweeps", "sweep", "run and video stores"};
-  // method  pattern                                               handler          statuses
-  r.add("GET", "/api/v1/health", bind(health));           // 200
-  r.add("GET", "/api/v1/datasets", bind(list_datasets));  // 200
+  // Roles: GET needs a reader's token, every other method a writer's (Router::add); the exceptions say
+  // .needs() (the POSTs that only compute an answer need a reader). Lanes: .on(Lane::compute) runs the
+  // handler on the compute pool (routes/router.hpp). method  pattern handler          statuses
+  r.add("GET", "/api/v1/health", bind(health)).needs(Role::anyone);  // 200
+  r.add("GET", "/api/v1/datasets", bind(list_datasets));             // 200
   r.add("POST", "/api/v1/datasets", bind(create_dataset),
-        upload(limits::kMaxUploadBytes, "upload"));                                  // 202 400 409 413
-  r.add("GET", "/api/v1/datasets/{dataset}", bind(get_dataset));                     // 200 404
-  r.add("DELETE", "/api/v1/datasets/{dataset}", bind(delete_dataset));               // 204 404
-  r.add("GET", "/api/v1/datasets/{dataset}/summary", bind(summary));                 // 200 400 404
-  r.add("GET", "/api/v1/datasets/{dataset}/flights", bind(list_flights));            // 200 400 404
-  r.add("GET", "/api/v1/datasets/{dataset}/flights/{flight_id}", bind(get_flight));  // 200 400 404 413
-  r.add("GET", "/api/v1/datasets/{dataset}/positions", bind(positions));             // 200 400 404 413
-  r.add("GET", "/api/v1/datasets/{dataset}/animation", bind(animation));             // 200 304 400 404 413
-  r.add("GET", "/api/v1/jobs", bind(list_jobs));                                     // 200
-  r.add("GET", "/api/v1/jobs/{job}", bind(get_job));                                 // 200 404
-  r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));                           // 200 404
-  r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile));      // 200 304 400 404
-  r.add("GET", "/api/v1/graphs", list_handler(app, graphs));                         // 200
+        upload(limits::kMaxUploadBytes, "upload"));                                     // 202 400 409 413
+  r.add("GET", "/api/v1/datasets/{dataset}", bind(get_dataset));                        // 200 404
+  r.add("DELETE", "/api/v1/datasets/{dataset}", bind(delete_dataset));                  // 204 404
+  r.add("GET", "/api/v1/datasets/{dataset}/summary", bind(summary)).on(Lane::compute);  // 200 400 404
+  r.add("GET", "/api/v1/datasets/{dataset}/flights", bind(list_flights)).on(Lane::compute);  // 200 400 404
+  r.add("GET", "/api/v1/datasets/{dataset}/flights/{flight_id}", bind(get_flight))
+      .on(Lane::compute);                                                                   // 200 400 404 413
+  r.add("GET", "/api/v1/datasets/{dataset}/positions", bind(positions)).on(Lane::compute);  // 200 400 404 413
+  r.add("GET", "/api/v1/datasets/{dataset}/animation", bind(animation))
+      .on(Lane::compute);                                   // 200 304 400 404 413
+  r.add("GET", "/api/v1/jobs", bind(list_jobs));            // 200
+  r.add("GET", "/api/v1/jobs/{job}", bind(get_job));        // 200 404
+  r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));  // 200 404
+  r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile))
+      .on(Lane::compute);                                     // 200 304 400 404
+  r.add("GET", "/api/v1/graphs", list_handler(app, graphs));  // 200
   r.add("POST", "/api/v1/graphs", bind(create_graph),
         upload(limits::kMaxGraphUploadBytes, "graph upload"));             // 201 400 413 415 422
   r.add("GET", "/api/v1/graphs/{graph}", get_handler(app, graphs));        // 200 404
   r.add("DELETE", "/api/v1/graphs/{graph}", delete_handler(app, graphs));  // 204 404
   // /bundles/params before /bundles/{bundle}: the first matching route wins.
-  r.add("GET", "/api/v1/bundles/params", bind(bundle_params));                          // 200
-  r.add("GET", "/api/v1/bundles", list_handler(app, bundles));                          // 200
-  r.add("POST", "/api/v1/bundles", bind(create_bundle));                                // 202 400 404 413 422
-  r.add("GET", "/api/v1/bundles/{bundle}", get_handler(app, bundles));                  // 200 404
-  r.add("DELETE", "/api/v1/bundles/{bundle}", bind(delete_bundle));                     // 204 404
-  r.add("GET", "/api/v1/bundles/{bundle}/image.png", bind(bundle_image));               // 200 304 400 404
-  r.add("GET", "/api/v1/bundles/{bundle}/polylines", bind(bundle_polylines));           // 200 400 404 413
-  r.add("GET", "/tiles/{dataset}/bundle/{bundle}/{z}/{x}/{y}.png", bind(bundle_tile));  // 200 304 400 404
+  r.add("GET", "/api/v1/bundles/params", bind(bundle_params));          // 200
+  r.add("GET", "/api/v1/bundles", list_handler(app, bundles));          // 200
+  r.add("POST", "/api/v1/bundles", bind(create_bundle));                // 202 400 404 413 422
+  r.add("GET", "/api/v1/bundles/{bundle}", get_handler(app, bundles));  // 200 404
+  r.add("DELETE", "/api/v1/bundles/{bundle}", bind(delete_bundle));     // 204 404
+  r.add("GET", "/api/v1/bundles/{bundle}/image.png", bind(bundle_image))
+      .on(Lane::compute);  // 200 304 400 404
+  r.add("GET", "/api/v1/bundles/{bundle}/polylines", bind(bundle_polylines))
+      .on(Lane::compute);  // 200 400 404 413
+  r.add("GET", "/tiles/{dataset}/bundle/{bundle}/{z}/{x}/{y}.png", bind(bundle_tile))
+      .on(Lane::compute);  // 200 304 400 404
   // Depth videos; /videos/synth before /videos/{video}.
   r.add("GET", "/api/v1/videos", list_handler(app, videos));  // 200
   r.add("POST", "/api/v1/videos", bind(create_video),
@@ -91,14 +99,20 @@ Router make_router(App& app) {
         upload(limits::kMaxRunBytes, "MOT file upload"));          // 201 400 409 413 422
   r.add("GET", "/api/v1/mot/{mot}", get_handler(app, mot));        // 200 404
   r.add("DELETE", "/api/v1/mot/{mot}", delete_handler(app, mot));  // 204 404
-  r.add("POST", "/api/v1/metrics", bind(compute_metrics));         // 200 400 404 413 422
+  r.add("POST", "/api/v1/metrics", bind(compute_metrics))
+      .needs(Role::reader)
+      .on(Lane::compute);  // 200 400 404 413 422
   // Parameter sweeps.
-  r.add("GET", "/api/v1/sweeps", list_handler(app, sweeps));      // 200
-  r.add("POST", "/api/v1/sweeps", bind(create_sweep));            // 202 400 404 409 413 422
-  r.add("GET", "/api/v1/sweeps/{sweep}", bind(get_sweep));        // 200 404
-  r.add("GET", "/api/v1/importance", bind(importance));           // 200 400 404 413 422
-  r.add("POST", "/api/v1/projections", bind(create_projection));  // 200 400 404 413 422
-  r.add("POST", "/api/v1/compare", bind(compare_runs));           // 200 400 404 413 422
+  r.add("GET", "/api/v1/sweeps", list_handler(app, sweeps));               // 200
+  r.add("POST", "/api/v1/sweeps", bind(create_sweep));                     // 202 400 404 409 413 422
+  r.add("GET", "/api/v1/sweeps/{sweep}", bind(get_sweep));                 // 200 404
+  r.add("GET", "/api/v1/importance", bind(importance)).on(Lane::compute);  // 200 400 404 413 422
+  r.add("POST", "/api/v1/projections", bind(create_projection))
+      .needs(Role::reader)
+      .on(Lane::compute);  // 200 400 404 413 422
+  r.add("POST", "/api/v1/compare", bind(compare_runs))
+      .needs(Role::reader)
+      .on(Lane::compute);  // 200 400 404 413 422
   // Live replays.
   r.add("GET", "/api/v1/replays", bind(list_replays));               // 200
   r.add("POST", "/api/v1/replays", bind(create_replay));             // 201 400 404 409
@@ -115,7 +129,8 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/congestion/{job}", bind(get_congestion));              // 200 400 404 409
   // The congestion map of simultaneous aircraft (routes/congestion_tiles.cpp).
   r.add("GET", "/api/v1/datasets/{dataset}/congestion/tiles/{z}/{x}/{y}.png",
-        bind(congestion_tile));  // 200 304 400 404
+        bind(congestion_tile))
+      .on(Lane::compute);  // 200 304 400 404
   // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });
