@@ -22,6 +22,18 @@ const char* to_string(Error::Kind kind) noexcept {
       return "backend_unavailable";
     case Error::Kind::internal:
       return "internal";
+    case Error::Kind::unauthorized:
+      return "unauthorized";
+    case Error::Kind::forbidden:
+      return "forbidden";
+    case Error::Kind::request_timeout:
+      return "request_timeout";
+    case Error::Kind::too_many_requests:
+      return "too_many_requests";
+    case Error::Kind::unavailable:
+      return "unavailable";
+    case Error::Kind::insufficient_storage:
+      return "insufficient_storage";
   }
   return "internal";
 }

@@ -25,6 +25,18 @@ int http_status(Error::Kind kind) noexcept {
       return 500;
     case Error::Kind::internal:
       return 500;
+    case Error::Kind::unauthorized:
+      return 401;
+    case Error::Kind::forbidden:
+      return 403;
+    case Error::Kind::request_timeout:
+      return 408;
+    case Error::Kind::too_many_requests:
+      return 429;
+    case Error::Kind::unavailable:
+      return 503;
+    case Error::Kind::insufficient_storage:
+      return 507;
   }
   return 500;
 }
@@ -55,7 +67,11 @@ ErrorBody error_body(const std::exception& e) {
 
 Response error_response(const std::exception& e) {
   ErrorBody b = error_body(e);
-  return Response::json(b.status, std::move(b.body));
+  Response res = Response::json(b.status, std::move(b.body));
+  if (const auto* later = dynamic_cast<const RetryLater*>(&e))
+    res.headers.emplace_back("Retry-After", std::to_string(later->retry_after_seconds()));
+  if (b.status == 401) res.headers.emplace_back("WWW-Authenticate", "Bearer realm=\"trailscope\"");
+  return res;
 }
 
 }  // namespace trailscope::server

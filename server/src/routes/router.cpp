@@ -64,7 +64,7 @@ BodyRule Router::body_rule(const std::string& method, const std::string& path) c
   return {};
 }
 
-Router::Upgrade Router::upgrade(const Request& req) const {
+Router::Upgrade Router::upgrade(Request req) const {
   Upgrade u;
   std::string endpoints;
   for (const Route& r : routes_) {
@@ -72,6 +72,7 @@ Router::Upgrade Router::upgrade(const Request& req) const {
     endpoints += (endpoints.empty() ? "" : " and ") + r.pattern;
     if (u.route || !match_route(r.pattern, req.path, u.params)) continue;
     try {
+      if (access_) access_(req, &r);
       r.handler(req, u.params);
       u.route = &r;
     } catch (const std::exception& e) {
@@ -83,22 +84,37 @@ Router::Upgrade Router::upgrade(const Request& req) const {
   return u;
 }
 
-Response Router::handle(const Request& req) const {
+const Router::Route* Router::find(const std::string& method, const std::string& path,
+                                  PathParams& params) const {
+  for (const Route& r : routes_)
+    if (r.websocket == WebSocketKind::none &&
+        (r.method == method || (method == "HEAD" && r.method == "GET")) &&
+        match_route(r.pattern, path, params))
+      return &r;
+  return nullptr;
+}
+
+const Router::Route* Router::admit(Request& req, PathParams& params) const {
+  const Route* route = find(req.method, req.path, params);
+  if (access_) access_(req, route);
+  return route;
+}
+
+Response Router::handle(Request req) const {
   try {
-    bool path_known = false;
+    PathParams params;
+    if (const Route* r = admit(req, params)) {
+      Response res = r->handler(req, params);
+      res.head_only = req.method == "HEAD";
+      return res;
+    }
     std::string allow;
     for (const Route& r : routes_) {
-      PathParams params;
-      if (r.websocket != WebSocketKind::none || !match_route(r.pattern, req.path, params)) continue;
-      if (r.method == req.method || (req.method == "HEAD" && r.method == "GET")) {
-        Response res = r.handler(req, params);
-        res.head_only = req.method == "HEAD";
-        return res;
-      }
-      path_known = true;
-      allow += (allow.empty() ? "" : ", ") + r.method;
+      PathParams ignored;
+      if (r.websocket == WebSocketKind::none && match_route(r.pattern, req.path, ignored))
+        allow += (allow.empty() ? "" : ", ") + r.method;
     }
-    if (path_known) {
+    if (!allow.empty()) {
       Response res =
           error_response(405, "method_not_allowed", "", req.method + " is not allowed on " + req.path);
       res.headers.emplace_back("Allow", allow);

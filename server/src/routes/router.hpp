@@ -68,14 +68,28 @@ class Router {
   /// A WebSocket upgrade route (GET `pattern`, role `reader`); `check` answers anything (e.g. status 101)
   /// to accept.
   Route& add_websocket(std::string pattern, WebSocketKind kind, Handler check);
-  /// Finds the route and runs it. Unknown paths give 404, a known path with another method 405; any
-  /// exception becomes the error table's response.
-  Response handle(const Request& req) const;
+  /// The access check: fills `req.principal` from the request's credentials and throws
+  /// Error(unauthorized) or Error(forbidden) when `route` (null when no route matches: the check then
+  /// decides by the method alone, so a state-changing request learns nothing about what exists) needs more
+  /// than the caller has. make_router installs the App's; a router without one admits every caller as
+  /// anonymous.
+  using AccessCheck = std::function<void(Request& req, const Route* route)>;
+  void set_access(AccessCheck check) { access_ = std::move(check); }
+  /// The route `method` `path` reaches (HEAD reaches GET's; WebSocket routes excluded) with its path
+  /// parameters, or null.
+  const Route* find(const std::string& method, const std::string& path, PathParams& params) const;
+  /// What is known before a body is read: finds the route of `req` (headers, no body) and runs the access
+  /// check. Throws as the check does; returns null when no route matches.
+  const Route* admit(Request& req, PathParams& params) const;
+  /// Finds the route, runs the access check, then the handler. Unknown paths give 404, a known path with
+  /// another method 405; any exception becomes the error table's response.
+  Response handle(Request req) const;
   /// The body rule of the route `method` `path` would reach; the default rule when none.
   BodyRule body_rule(const std::string& method, const std::string& path) const;
-  /// Matches a WebSocket upgrade request and runs its route's check. Unknown paths are refused with 404
-  /// naming the WebSocket endpoints; a check's error is refused with the error table's response.
-  Upgrade upgrade(const Request& req) const;
+  /// Matches a WebSocket upgrade request and runs the access check and its route's check. Unknown paths are
+  /// refused with 404 naming the WebSocket endpoints; a check's error is refused with the error table's
+  /// response.
+  Upgrade upgrade(Request req) const;
   /// Every (method, pattern) pair, for the OpenAPI consistency test.
   const std::vector<Route>& routes() const { return routes_; }
   /// A fallback (static files) tried for GET requests that no route matches.
@@ -84,6 +98,7 @@ class Router {
  private:
   std::vector<Route> routes_;
   Handler fallback_;
+  AccessCheck access_;
 };
 
 /// Matches `path` against `pattern`; fills `params` on success.

@@ -20,6 +20,13 @@ class Error : public std::runtime_error {
     cancelled,           ///< a long job was cancelled by its owner
     backend,             ///< an OpenCL backend could not run (callers fall back to the reference)
     internal,            ///< a bug or an I/O failure (500)
+    // Refusals of the shared service (server/src/errors/error_table.cpp); compute/ never throws these.
+    unauthorized,          ///< no valid token for a route that needs one (401)
+    forbidden,             ///< a valid token whose role or ownership does not allow this (403)
+    request_timeout,       ///< the request did not arrive, or its work did not end, in time (408)
+    too_many_requests,     ///< a rate limit or quota of the caller is reached (429, with Retry-After)
+    unavailable,           ///< the server is at capacity for this kind of work (503, with Retry-After)
+    insufficient_storage,  ///< the work would exceed the disk budget (507)
   };
   Error(Kind kind, std::string param, const std::string& detail)
       : std::runtime_error(detail), kind_(kind), param_(std::move(param)) {}
