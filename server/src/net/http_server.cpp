@@ -43,8 +43,10 @@ std::string size_text(std::uint64_t bytes) {
 }
 
 // Turns Beast's header + body into the router's Request; a malformed target is a 400 via the table.
-Request to_request(const http::request_header<>& h, std::string body, fs::path body_file) {
+Request to_request(const http::request_header<>& h, std::string body, fs::path body_file,
+                   const std::string& remote) {
   Request req;
+  req.remote_address = remote;
   req.method = std::string(h.method_string());
   auto parsed = boost::urls::parse_origin_form(h.target());
   if (!parsed) throw invalid_argument("path", "malformed request target");
@@ -116,6 +118,10 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
                              ReplayManager* replays, BundleStreams* streams) {
   beast::flat_buffer buffer;
   beast::error_code ec;
+  const std::string remote = [&] {
+    auto ep = stream.socket().remote_endpoint(ec);
+    return ec ? std::string() : ep.address().to_string();
+  }();
   for (;;) {
     http::request_parser<http::empty_body> head;
     head.header_limit(16 * 1024);
@@ -134,7 +140,7 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
       Router::Upgrade up;
       std::shared_ptr<Replay> replay;
       try {
-        up = router.upgrade(to_request(h, {}, {}));
+        up = router.upgrade(to_request(h, {}, {}, remote));
         if (up.route && up.route->websocket == WebSocketKind::replay) {
           if (!replays) throw not_found("replay", "replay '" + up.params.at("replay") + "' does not exist");
           replay = replays->get(up.params.at("replay"));
@@ -182,7 +188,7 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
         p.get().body().close();
         if (ec == http::error::body_limit) throw Error(Error::Kind::payload_too_large, "body", too_large);
         if (ec) throw beast::system_error(ec);
-        res = router.handle(to_request(p.get(), {}, file));
+        res = router.handle(to_request(p.get(), {}, file, remote));
         if (res.status >= 400) fs::remove(file, ec);  // the handler did not take it
         keep_alive = p.get().keep_alive();
       } else {
@@ -192,7 +198,7 @@ net::awaitable<void> session(beast::tcp_stream stream, const Router& router, WsH
         if (ec == http::error::body_limit) throw Error(Error::Kind::payload_too_large, "body", too_large);
         if (ec) throw beast::system_error(ec);
         auto msg = p.release();
-        res = router.handle(to_request(msg, std::move(msg.body()), {}));
+        res = router.handle(to_request(msg, std::move(msg.body()), {}, remote));
       }
     } catch (const beast::system_error& e) {
       if (!file.empty()) fs::remove(file, ec);

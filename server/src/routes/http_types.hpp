@@ -41,6 +41,7 @@ struct Request {
   std::map<std::string, std::string> headers;  ///< lower-case names
   std::string body;                            ///< small bodies
   std::filesystem::path body_file;             ///< streamed upload, when set (the handler takes ownership)
+  std::string remote_address;                  ///< the client's IP address ("" in in-process tests)
   Principal principal;                         ///< set by the access check before the handler runs
   /// Set when the client has gone away or the request's deadline has passed (routes on Lane::compute);
   /// a handler passes it to the compute/ function it calls. Null on the I/O lane.
