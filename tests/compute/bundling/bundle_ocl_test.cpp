@@ -3,10 +3,10 @@
 // geometry, integer density), so the points must be the same bits.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <random>
 #include <string>
 
+#include "strict_opencl.hpp"
 #include "../../../compute/src/bundling/steps.hpp"
 #include "../../../compute/src/bundling/bundle_ocl.hpp"
 #include "trailscope/bundling/bundle.hpp"
@@ -17,24 +17,7 @@ namespace trailscope::bundling {
 namespace {
 using detail::Points;
 
-class BundleOcl : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const char* old = std::getenv("TRAILSCOPE_OPENCL_STRICT");
-    had_ = old != nullptr;
-    if (had_) old_ = old;
-    setenv("TRAILSCOPE_OPENCL_STRICT", "1", 1);
-    if (!opencl_available()) GTEST_SKIP() << "no OpenCL device: " << opencl_info().error;
-  }
-  void TearDown() override {
-    if (had_)
-      setenv("TRAILSCOPE_OPENCL_STRICT", old_.c_str(), 1);
-    else
-      unsetenv("TRAILSCOPE_OPENCL_STRICT");
-  }
-  bool had_ = false;
-  std::string old_;
-};
+class BundleOcl : public test::StrictOpenCl {};
 
 // Random polylines of 2..max_points points in [lo, hi)², some of them leaving the image.
 Points random_points(std::mt19937& rng, int polylines, int max_points, float lo, float hi) {
@@ -224,16 +207,15 @@ TEST_F(BundleOcl, AFailingDeviceFallsBackOrThrowsInStrictMode) {
   const Polylines src = random_graph(rng, 40, 100);
   const Frame f = Frame::fit(src, p.size, p.border);
   const Polylines px = f.to_pixels(src);
-  setenv("TRAILSCOPE_OPENCL_INJECT_FAILURE", "bundle", 1);
+  const test::ScopedEnv inject("TRAILSCOPE_OPENCL_INJECT_FAILURE", "bundle");
   try {
     bundle(px, f, p, Backend::opencl);
     ADD_FAILURE() << "strict mode let a fallback through";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), Error::Kind::backend) << e.what();
   }
-  setenv("TRAILSCOPE_OPENCL_STRICT", "0", 1);
+  const test::ScopedEnv lenient("TRAILSCOPE_OPENCL_STRICT", "0");
   const Bundled b = bundle(px, f, p, Backend::opencl);
-  unsetenv("TRAILSCOPE_OPENCL_INJECT_FAILURE");
   EXPECT_EQ(b.path, "cpu");
   EXPECT_EQ(b.lines.x, bundle_ref(px, f, p).lines.x);
   const OpPathStats stats = op_path_stats("bundle");

@@ -18,13 +18,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <random>
 #include <set>
 #include <string>
 
+#include "strict_opencl.hpp"
 #include "trailscope/bundling/streaming.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
@@ -372,24 +372,7 @@ TEST(StreamBundle, Errors) {
   EXPECT_THROW(StreamingBundler(plane(), q), Error);
 }
 
-class StreamBundleOcl : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const char* old = std::getenv("TRAILSCOPE_OPENCL_STRICT");
-    had_ = old != nullptr;
-    if (had_) old_ = old;
-    setenv("TRAILSCOPE_OPENCL_STRICT", "1", 1);
-    if (!opencl_available()) GTEST_SKIP() << "no OpenCL device: " << opencl_info().error;
-  }
-  void TearDown() override {
-    if (had_)
-      setenv("TRAILSCOPE_OPENCL_STRICT", old_.c_str(), 1);
-    else
-      unsetenv("TRAILSCOPE_OPENCL_STRICT");
-  }
-  bool had_ = false;
-  std::string old_;
-};
+class StreamBundleOcl : public test::StrictOpenCl {};
 
 TEST_F(StreamBundleOcl, EveryUpdateMatchesTheReferenceBitForBit) {
   Synthetic s = synthetic(1200, 19);
@@ -413,7 +396,7 @@ TEST_F(StreamBundleOcl, EveryUpdateMatchesTheReferenceBitForBit) {
 TEST_F(StreamBundleOcl, AFailingDeviceFallsBackToTheReferenceOrThrowsInStrictMode) {
   Synthetic s = synthetic(300, 23);
   StreamParams p;
-  setenv("TRAILSCOPE_OPENCL_INJECT_FAILURE", "bundle_stream", 1);
+  const test::ScopedEnv inject("TRAILSCOPE_OPENCL_INJECT_FAILURE", "bundle_stream");
   StreamingBundler dev(plane(), p, Backend::opencl);
   try {
     dev.update(3 * 3600, s.source);
@@ -421,10 +404,9 @@ TEST_F(StreamBundleOcl, AFailingDeviceFallsBackToTheReferenceOrThrowsInStrictMod
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), Error::Kind::backend) << e.what();
   }
-  setenv("TRAILSCOPE_OPENCL_STRICT", "0", 1);
+  const test::ScopedEnv lenient("TRAILSCOPE_OPENCL_STRICT", "0");
   StreamingBundler dev2(plane(), p, Backend::opencl), ref(plane(), p, Backend::cpu);
   const StreamUpdate b = dev2.update(3 * 3600, s.source);
-  unsetenv("TRAILSCOPE_OPENCL_INJECT_FAILURE");
   EXPECT_EQ(b.path, "cpu");
   EXPECT_EQ(b.lines.x, ref.update(3 * 3600, s.source).lines.x);
 }

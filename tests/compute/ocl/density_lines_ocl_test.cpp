@@ -7,6 +7,7 @@
 #include <random>
 #include <thread>
 
+#include "strict_opencl.hpp"
 #include "../density/density_test_util.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/density/density.hpp"
@@ -18,13 +19,8 @@ namespace {
 using test::Seg;
 constexpr std::int64_t kWorld = std::int64_t{1} << 32;
 
-class DensityLinesOcl : public ::testing::Test {
+class DensityLinesOcl : public test::StrictOpenCl {
  protected:
-  void SetUp() override {
-    if (!opencl_available()) GTEST_SKIP() << "no OpenCL device: " << opencl_info().error;
-  }
-  test::ScopedEnv strict_{"TRAILSCOPE_OPENCL_STRICT", "1"};
-
   // Runs both backends and checks they agree exactly; returns the aggregate.
   static Aggregate both(const LineSegments& s) {
     const Aggregate ref = density_lines(s, Backend::cpu);

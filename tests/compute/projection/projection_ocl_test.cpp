@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include "strict_opencl.hpp"
 #include "projection_test_util.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
@@ -18,13 +19,7 @@
 namespace trailscope::projection {
 namespace {
 
-class ProjectionOcl : public ::testing::Test {
- protected:
-  void SetUp() override {
-    if (!opencl_available()) GTEST_SKIP() << "no OpenCL device: " << opencl_info().error;
-  }
-  test::ScopedEnv strict_{"TRAILSCOPE_OPENCL_STRICT", "1"};
-};
+class ProjectionOcl : public trailscope::test::StrictOpenCl {};
 
 TEST_F(ProjectionOcl, KnnMatchesReference) {
   const Table t = test::gaussian_clusters(1500, 30, 6, 4.0, 3);
