@@ -110,7 +110,7 @@ Principal Access::verify(std::string_view token, const std::string& remote) {
     std::lock_guard lock(mu_);
     auto it = verified_.find(key);
     if (it != verified_.end()) {
-      if (tokens_->find(it->second.who.token_id)) {
+      if (tokens_->contains(it->second.who.token_id)) {
         verified_order_.splice(verified_order_.begin(), verified_order_, it->second.order);
         return it->second.who;
       }
@@ -193,7 +193,7 @@ std::optional<Principal> Access::session_of(const Request& req, bool& stale) {
   std::lock_guard lock(mu_);
   auto it = sessions_.find(key_of(*secret));
   if (it != sessions_.end() && it->second.expires > now() &&
-      (!it->second.from_token || tokens_->find(it->second.who.token_id)))
+      (!it->second.from_token || tokens_->contains(it->second.who.token_id)))
     return it->second.who;
   if (it != sessions_.end()) sessions_.erase(it);
   stale = true;

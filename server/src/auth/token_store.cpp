@@ -253,6 +253,11 @@ std::optional<TokenRecord> TokenStore::find(const std::string& id) const {
   return std::nullopt;
 }
 
+bool TokenStore::contains(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  return std::any_of(tokens_.begin(), tokens_.end(), [&](const TokenRecord& t) { return t.id == id; });
+}
+
 bool TokenStore::empty() const {
   std::lock_guard lock(mu_);
   return tokens_.empty();

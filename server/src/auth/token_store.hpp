@@ -86,6 +86,8 @@ class TokenStore {
   /// Every token, oldest first.
   std::vector<TokenRecord> list() const;
   std::optional<TokenRecord> find(const std::string& id) const;
+  /// Whether the token `id` is stored (a lookup without a copy: the access check asks it on every request).
+  bool contains(const std::string& id) const;
   bool empty() const;
 
   /// Rereads the file when it changed since it was last read (inode, size or mtime). Unless `force`, the
