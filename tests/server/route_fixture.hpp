@@ -33,6 +33,8 @@ struct AdminRouter {
     return router.body_rule(method, path);
   }
   const std::vector<Router::Route>& routes() const { return router.routes(); }
+  /// The router itself, for a real server (its clients send `token` themselves).
+  operator const Router&() const { return router; }
 };
 
 class RouteFixture : public ::testing::Test {
