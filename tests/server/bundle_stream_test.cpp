@@ -100,9 +100,14 @@ Frame parse(const std::string& b) {
 
 class Client {
  public:
-  Client(net::io_context& ioc, unsigned short port, const std::string& target) : ws_(ioc) {
+  Client(net::io_context& ioc, unsigned short port, const std::string& target, const std::string& token)
+      : ws_(ioc) {
     tcp::resolver resolver(ioc);
     net::connect(ws_.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port)));
+    // Access control is on: the fixture's admin token on the handshake.
+    ws_.set_option(websocket::stream_base::decorator([token](websocket::request_type& req) {
+      req.set(beast::http::field::authorization, "Bearer " + token);
+    }));
     ws_.handshake("127.0.0.1", target);
   }
   struct Msg {
@@ -168,6 +173,10 @@ class BundleStreamTest : public test_routes::RouteFixture {
     tcp::resolver resolver(ioc_);
     websocket::stream<tcp::socket> ws(ioc_);
     net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port_)));
+    const std::string token = router.token;
+    ws.set_option(websocket::stream_base::decorator([token](websocket::request_type& req) {
+      req.set(beast::http::field::authorization, "Bearer " + token);
+    }));
     websocket::response_type res;
     beast::error_code ec;
     ws.handshake(res, "127.0.0.1", target, ec);
@@ -194,7 +203,7 @@ TEST_F(BundleStreamTest, RefusalsBeforeTheUpgrade) {
   // kMaxBundleStreams at once; the next is refused, and a closed one frees its place.
   std::vector<std::unique_ptr<Client>> open;
   for (std::size_t i = 0; i < limits::kMaxBundleStreams; ++i) {
-    open.push_back(std::make_unique<Client>(ioc_, port_, kPath));
+    open.push_back(std::make_unique<Client>(ioc_, port_, kPath, router.token));
     EXPECT_EQ(open.back()->next_text()["type"], "hello");
   }
   std::tie(status, j) = refused(kPath);
@@ -209,12 +218,12 @@ TEST_F(BundleStreamTest, RefusalsBeforeTheUpgrade) {
     reopened = app->bundle_streams->open_streams() < limits::kMaxBundleStreams;
   }
   ASSERT_TRUE(reopened);
-  Client again(ioc_, port_, kPath);
+  Client again(ioc_, port_, kPath, router.token);
   EXPECT_EQ(again.next_text()["type"], "hello");
 }
 
 TEST_F(BundleStreamTest, FramesFollowTheClock) {
-  Client c(ioc_, port_, kPath);
+  Client c(ioc_, port_, kPath, router.token);
   const auto hello = c.next_text();
   EXPECT_EQ(hello["type"], "hello");
   EXPECT_EQ(hello["dataset"], "eu");
@@ -262,7 +271,7 @@ TEST_F(BundleStreamTest, FramesFollowTheClock) {
 }
 
 TEST_F(BundleStreamTest, BadControlMessagesAreAnsweredExactly) {
-  Client c(ioc_, port_, kPath);
+  Client c(ioc_, port_, kPath, router.token);
   EXPECT_EQ(c.next_text()["type"], "hello");
   const auto expect = [&](const std::string& msg, const std::string& param, const std::string& detail) {
     c.send(msg);
@@ -300,7 +309,7 @@ TEST_F(BundleStreamTest, BadControlMessagesAreAnsweredExactly) {
 }
 
 TEST_F(BundleStreamTest, FiltersAndViewSelectTheFlights) {
-  Client c(ioc_, port_, kPath);
+  Client c(ioc_, port_, kPath, router.token);
   EXPECT_EQ(c.next_text()["type"], "hello");
   const double t = kT0 + 6000;
   c.send(nlohmann::json{{"t", t}, {"callsign", "KLM"}}.dump());

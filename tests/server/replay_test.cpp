@@ -125,9 +125,14 @@ FrameMsg parse_frame(const std::string& bytes) {
 /// A blocking WebSocket client of one replay.
 class Viewer {
  public:
-  Viewer(net::io_context& ioc, unsigned short port, const std::string& target) : ws_(ioc) {
+  Viewer(net::io_context& ioc, unsigned short port, const std::string& target, const std::string& token)
+      : ws_(ioc) {
     tcp::resolver resolver(ioc);
     net::connect(ws_.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port)));
+    // Access control is on: the fixture's admin token on the handshake.
+    ws_.set_option(websocket::stream_base::decorator([token](websocket::request_type& req) {
+      req.set(beast::http::field::authorization, "Bearer " + token);
+    }));
     ws_.handshake("127.0.0.1", target);
   }
   struct Msg {
@@ -203,7 +208,7 @@ TEST_F(ReplayWsTest, TwoViewersWithTheirOwnCursors) {
   const std::string video = upload_video(kFrames);
   const std::string id = create_replay(video);
   const std::string target = "/api/v1/replays/" + id + "/ws";
-  Viewer a(ioc_, port_, target), b(ioc_, port_, target);
+  Viewer a(ioc_, port_, target, router.token), b(ioc_, port_, target, router.token);
 
   for (Viewer* v : {&a, &b}) {
     const auto hello = v->read().json();
@@ -280,6 +285,10 @@ TEST_F(ReplayWsTest, UnknownReplayIs404BeforeTheUpgrade) {
   tcp::resolver resolver(ioc_);
   websocket::stream<tcp::socket> ws(ioc_);
   net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port_)));
+  const std::string token = router.token;
+  ws.set_option(websocket::stream_base::decorator([token](websocket::request_type& req) {
+    req.set(beast::http::field::authorization, "Bearer " + token);
+  }));
   websocket::response_type res;
   beast::error_code ec;
   ws.handshake(res, "127.0.0.1", "/api/v1/replays/rp404/ws", ec);
@@ -292,7 +301,7 @@ TEST_F(ReplayWsTest, UnknownReplayIs404BeforeTheUpgrade) {
 
 TEST_F(ReplayWsTest, DeleteClosesTheViewers) {
   const std::string id = create_replay(upload_video(10));
-  Viewer v(ioc_, port_, "/api/v1/replays/" + id + "/ws");
+  Viewer v(ioc_, port_, "/api/v1/replays/" + id + "/ws", router.token);
   EXPECT_EQ(v.read().json()["type"], "hello");
   EXPECT_EQ(send("DELETE", "/api/v1/replays/" + id).status, 204);
   beast::error_code ec;
