@@ -142,6 +142,16 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kBundleStreamWorkers", double(L::kBundleStreamWorkers)},
       {"kBundleStreamMinIntervalMs", double(L::kBundleStreamMinIntervalMs)},
       {"kBundleStreamSettleUpdates", double(L::kBundleStreamSettleUpdates)},
+      {"kJobWorkers", double(L::kJobWorkers)},
+      {"kMaxQueuedJobsPerOwner", double(L::kMaxQueuedJobsPerOwner)},
+      {"kJobRetryAfterSeconds", double(L::kJobRetryAfterSeconds)},
+      {"kDiskReserveBytes", double(L::kDiskReserveBytes)},
+      {"kMaxJobWriteBytes", double(L::kMaxJobWriteBytes)},
+      {"kMaxForceSchemeRequestWork", double(L::kMaxForceSchemeRequestWork)},
+      {"kMaxTsneRequestWork", double(L::kMaxTsneRequestWork)},
+      {"kMaxImagePixels", double(L::kMaxImagePixels)},
+      {"kMaxCompareReadFrames", double(L::kMaxCompareReadFrames)},
+      {"kMaxMetricsRows", double(L::kMaxMetricsRows)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";
