@@ -133,5 +133,34 @@ inline constexpr std::size_t kMaxSessions = 10000;
 inline constexpr int kSessionSeconds = 86400;
 /// How long the one-time sign-in code that `trailscope serve` prints stays valid (seconds).
 inline constexpr int kLoginCodeSeconds = 3600;
+// --- ownership, ids and the admission of jobs and heavy requests --------------------------------------
+/// Threads that run jobs: a short ingest does not wait behind a long synth (the reference machine has 2
+/// cores; the compute pool and the I/O threads share them).
+inline constexpr unsigned kJobWorkers = 2;
+/// Jobs one owner may have queued or running at once; one more is refused with 429 and Retry-After
+/// kJobRetryAfterSeconds, so that one client cannot queue work ahead of everyone else.
+inline constexpr std::size_t kMaxQueuedJobsPerOwner = 8;
+inline constexpr int kJobRetryAfterSeconds = 10;
+/// Free disk space (bytes) the jobs never write into: the stores' metadata, the id counters, logs and the
+/// system keep working when the jobs have used up what they may.
+inline constexpr std::uint64_t kDiskReserveBytes = 1ull << 30;  // 1 GiB
+/// Most bytes one job may write (a synthetic video, an ingested dataset, a bundle), checked against its
+/// estimate before it starts writing and against what it has written while it writes. A video pack stops
+/// at kMaxVideoUploadBytes anyway; a dataset from a 2 GiB upload takes a few GB of columns.
+inline constexpr std::uint64_t kMaxJobWriteBytes = 8ull << 30;  // 8 GiB
+/// Work of one synchronous POST /api/v1/projections, checked before it starts (larger work goes through
+/// `trailscope project`). Force Scheme: rows² × iterations (every pair each iteration); 5,000 rows × 100
+/// iterations (2.5e9) took 34 s here, so the budget is ~7 s of it. t-SNE: rows × (250 exaggeration + main
+/// iterations); 5,000 rows at the default 750 (3.75e6) took 11 s, 20,000 rows 38 s.
+inline constexpr std::uint64_t kMaxForceSchemeRequestWork = 500'000'000;
+inline constexpr std::uint64_t kMaxTsneRequestWork = 3'750'000;
+/// Pixels (width × height) of one GET /api/v1/bundles/{bundle}/image.png: rendering needs ~40 bytes per
+/// pixel, so 4096² peaks near 670 MB (8192² took 12 s and 2.6 GB).
+inline constexpr std::uint64_t kMaxImagePixels = 4096ull * 4096ull;
+/// Frames of all runs one POST /api/v1/compare reads, checked from the stored rows before any log is read
+/// (kMaxCompareRuns runs of kMaxVideoFrames frames; kMaxCompareFrames then bounds the frames they share).
+inline constexpr std::uint64_t kMaxCompareReadFrames = 800'000;
+/// Rows (ground truth plus result) one POST /api/v1/metrics reads; MOT17's largest result has ~60,000.
+inline constexpr std::uint64_t kMaxMetricsRows = 2'000'000;
 
 }  // namespace trailscope::limits

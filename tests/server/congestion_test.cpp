@@ -491,13 +491,16 @@ TEST_F(CongestionRoute, RequestsAreCheckedBeforeAnyWork) {
 
 TEST_F(CongestionRoute, ResultsFollowTheJobAndAreKeptBounded) {
   expect_detail(get("/api/v1/congestion/j99"), 404, "job", "job 'j99' does not exist");
-  // A job ahead of it holds the one worker: the congestion job is queued and has no result yet.
+  // Jobs ahead of it hold every worker: the congestion job is queued and has no result yet.
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
-  const JobState blocker = app->jobs.submit("test", "", [released](const ProgressFn&, const CancelToken&) {
-    released.wait();
-    return nlohmann::json::object();
-  });
+  std::vector<JobState> blockers;
+  for (unsigned w = 0; w < limits::kJobWorkers; ++w)
+    blockers.push_back(app->jobs.submit("test", "", [released](const ProgressFn&, const CancelToken&) {
+      released.wait();
+      return nlohmann::json::object();
+    }));
+  const JobState& blocker = blockers.front();
   const Response accepted = post(sectors_body(upload_sectors()));
   ASSERT_EQ(accepted.status, 202);
   const std::string queued = body(accepted)["job"]["id"];

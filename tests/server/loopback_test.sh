@@ -121,7 +121,8 @@ check "graph survives restart" 2101 "$(curl -s "$URL/api/v1/graphs/$gid" | json 
 zcat "$SO6" > "$TMP/big.so6"; for _ in 1 2 3 4 5 6 7; do zcat "$SO6" | sed 's/ 180101 180101 / 180102 180102 /' >> "$TMP/big.so6"; done
 curl -s --data-binary @"$TMP/big.so6" "$URL/api/v1/datasets?name=killed" > /dev/null &
 for _ in $(seq 1 100); do
-  st=$(curl -s "$URL/api/v1/jobs/j1" | json 'd["state"]' 2>/dev/null)
+  # Job ids continue across restarts: find the ingest by its dataset.
+  st=$(curl -s "$URL/api/v1/jobs" | json '" ".join(j["state"] for j in d["jobs"] if j["dataset"] == "killed")' 2>/dev/null)
   [ "$st" == "running" ] && break
   sleep 0.05
 done

@@ -191,6 +191,16 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxSessions", double(L::kMaxSessions)},
       {"kSessionSeconds", double(L::kSessionSeconds)},
       {"kLoginCodeSeconds", double(L::kLoginCodeSeconds)},
+      {"kJobWorkers", double(L::kJobWorkers)},
+      {"kMaxQueuedJobsPerOwner", double(L::kMaxQueuedJobsPerOwner)},
+      {"kJobRetryAfterSeconds", double(L::kJobRetryAfterSeconds)},
+      {"kDiskReserveBytes", double(L::kDiskReserveBytes)},
+      {"kMaxJobWriteBytes", double(L::kMaxJobWriteBytes)},
+      {"kMaxForceSchemeRequestWork", double(L::kMaxForceSchemeRequestWork)},
+      {"kMaxTsneRequestWork", double(L::kMaxTsneRequestWork)},
+      {"kMaxImagePixels", double(L::kMaxImagePixels)},
+      {"kMaxCompareReadFrames", double(L::kMaxCompareReadFrames)},
+      {"kMaxMetricsRows", double(L::kMaxMetricsRows)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

@@ -55,6 +55,7 @@ class RouteFixture : public ::testing::Test {
                std::map<std::string, std::string> headers = {}) {
     Request r;
     r.method = "GET", r.path = path, r.query = std::move(query), r.headers = std::move(headers);
+    r.principal = principal;
     return router.handle(r);
   }
   /// A request with a body (POST, DELETE, ...).
@@ -64,6 +65,7 @@ class RouteFixture : public ::testing::Test {
     Request r;
     r.method = method, r.path = path, r.body = std::move(body), r.query = std::move(query);
     r.headers = std::move(headers);
+    r.principal = principal;
     return router.handle(r);
   }
   static nlohmann::json body(const Response& r) { return nlohmann::json::parse(r.body); }
@@ -129,6 +131,9 @@ class RouteFixture : public ::testing::Test {
     return checked;
   }
 
+  /// The caller of get() and send(): an admin, so that the route tests may delete what they made.
+  /// (routes/ownership.hpp's rule has its own tests, with callers of each role.)
+  Principal principal{"test-token", "tester", Role::admin};
   trailscope::test::TempDir tmp;
   std::shared_ptr<EmbeddedStore> store;
   std::unique_ptr<App> app;

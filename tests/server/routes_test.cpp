@@ -136,6 +136,7 @@ TEST_F(RoutesTest, UploadOfNonTrailDataFailsTheJob) {
 TEST_F(RoutesTest, DeleteDataset) {
   Request r;
   r.method = "DELETE", r.path = "/api/v1/datasets/nl";
+  r.principal = principal;
   EXPECT_EQ(router.handle(r).status, 204);
   expect_error(router.handle(r), 404, "not_found", "dataset");
   // Gone for good: a store reopened on the same folder does not bring it back.

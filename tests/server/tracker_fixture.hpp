@@ -42,6 +42,7 @@ class TrackerFixture : public RouteFixture {
                   std::map<std::string, std::string> query = {}) {
     Request r;
     r.method = "POST", r.path = route, r.query = std::move(query);
+    r.principal = principal;
     static int n = 0;
     r.body_file = store->upload_dir() / ("test-upload-" + std::to_string(n++));
     std::filesystem::copy_file(path, r.body_file);

@@ -67,17 +67,28 @@ std::shared_ptr<StoredBundle> run_bundle(BundleInput in, const std::string& id,
 }
 
 JobState submit_bundle(JobManager& jobs, std::shared_ptr<BundleStore> store, BundleInput in, std::string id,
-                       const bundling::BundleParams& params, Backend backend, std::string source) {
+                       const bundling::BundleParams& params, Backend backend, std::string source,
+                       std::shared_ptr<DiskBudget> disk, const std::string& owner) {
   auto input = std::make_shared<BundleInput>(std::move(in));
   return jobs.submit(
       "bundle", std::move(source),
-      [store, input, id, params, backend](const ProgressFn& progress, const CancelToken& cancel) {
+      [store, input, id, params, backend, disk, owner](const ProgressFn& progress,
+                                                       const CancelToken& cancel) {
         const auto sb = run_bundle(std::move(*input), id, params, backend, progress, &cancel);
+        sb->owner = owner;
+        std::shared_ptr<const DiskBudget::Grant> grant;  // held until the bundle is written
+        if (disk)
+          grant = disk->admit(BundleStore::bytes_estimate(*sb), "bundle", "the bundle",
+                              std::to_string(sb->bundled.lines.points()) + " points × " +
+                                  std::to_string(BundleStore::kBytesPerPoint) + " bytes and " +
+                                  std::to_string(sb->bundled.lines.size()) + " polylines × " +
+                                  std::to_string(BundleStore::kBytesPerPolyline) + " bytes");
         // Bundles evicted beyond kMaxStoredBundles keep their cached tiles until the LRU
         // drops them: their keys can never be asked for again.
         store->put(sb);
         return sb->to_json();
-      });
+      },
+      owner);
 }
 
 }  // namespace trailscope::server

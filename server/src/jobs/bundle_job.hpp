@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "store/bundle_store.hpp"
+#include "jobs/disk_budget.hpp"
 #include "jobs/job_manager.hpp"
 #include "store/dataset_store.hpp"
 #include "store/graph_store.hpp"
@@ -45,9 +46,12 @@ std::shared_ptr<StoredBundle> run_bundle(BundleInput in, const std::string& id,
                                          const bundling::BundleParams& params, Backend backend,
                                          const ProgressFn& progress, const CancelToken* cancel);
 
-/// Queues a job "bundle" (JobState::dataset = `source`, the dataset or graph id) that bundles `in` as
-/// bundle `id` (BundleStore::reserve_id) and puts it into `store`; the job's result is the bundle's JSON.
+/// Queues a job "bundle" of `owner` (JobState::dataset = `source`, the dataset or graph id) that bundles
+/// `in` as bundle `id` (BundleStore::reserve_id) and puts it into `store`, once `disk` (when given) has
+/// granted its bytes (BundleStore::bytes_estimate; the job fails with 507 and the numbers otherwise); the
+/// job's result is the bundle's JSON.
 JobState submit_bundle(JobManager& jobs, std::shared_ptr<BundleStore> store, BundleInput in, std::string id,
-                       const bundling::BundleParams& params, Backend backend, std::string source);
+                       const bundling::BundleParams& params, Backend backend, std::string source,
+                       std::shared_ptr<DiskBudget> disk = nullptr, const std::string& owner = "");
 
 }  // namespace trailscope::server

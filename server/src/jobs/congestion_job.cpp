@@ -125,23 +125,24 @@ std::shared_ptr<const CongestionOutput> CongestionResults::get(const std::string
 }
 
 JobState submit_congestion(JobManager& jobs, std::shared_ptr<CongestionResults> results,
-                           std::shared_ptr<const Dataset> ds, CongestionRequest r) {
+                           std::shared_ptr<const Dataset> ds, CongestionRequest r, const std::string& owner) {
   // The job's id is known only once it is queued; the work waits for it (set right below) before it
   // files its result under it.
   auto id = std::make_shared<std::promise<std::string>>();
   std::shared_future<std::string> job_id = id->get_future().share();
   auto request = std::make_shared<const CongestionRequest>(std::move(r));
   const std::string dataset = ds->id;
-  const JobState job =
-      jobs.submit("congestion", dataset,
-                  [results, ds, request, job_id](const ProgressFn& progress, const CancelToken& cancel) {
-                    const auto out = run_congestion(*ds->trails, *request, progress, &cancel);
-                    const std::string id = job_id.get();
-                    results->put(id, out);
-                    nlohmann::json summary = out->summary();
-                    summary["congestion"] = "/api/v1/congestion/" + id;
-                    return summary;
-                  });
+  const JobState job = jobs.submit(
+      "congestion", dataset,
+      [results, ds, request, job_id](const ProgressFn& progress, const CancelToken& cancel) {
+        const auto out = run_congestion(*ds->trails, *request, progress, &cancel);
+        const std::string id = job_id.get();
+        results->put(id, out);
+        nlohmann::json summary = out->summary();
+        summary["congestion"] = "/api/v1/congestion/" + id;
+        return summary;
+      },
+      owner);
   id->set_value(job.id);
   return job;
 }

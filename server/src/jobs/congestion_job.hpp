@@ -71,6 +71,7 @@ class CongestionResults {
 /// Queues a job "congestion" (JobState::dataset = the dataset's id) that runs `r` on `ds` and puts the
 /// output into `results` under the job's id; the job's result is CongestionOutput::summary().
 JobState submit_congestion(JobManager& jobs, std::shared_ptr<CongestionResults> results,
-                           std::shared_ptr<const Dataset> ds, CongestionRequest r);
+                           std::shared_ptr<const Dataset> ds, CongestionRequest r,
+                           const std::string& owner = "");
 
 }  // namespace trailscope::server

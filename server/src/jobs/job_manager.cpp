@@ -22,10 +22,11 @@ ProgressFn cancellable(const ProgressFn& progress, const CancelToken& cancel) {
 
 nlohmann::json JobState::to_json() const {
   return {{"id", id},       {"kind", kind},       {"state", state},   {"progress", progress},
-          {"stage", stage}, {"dataset", dataset}, {"result", result}, {"error", error}};
+          {"stage", stage}, {"dataset", dataset}, {"result", result}, {"error", error},
+          {"owner", owner}};
 }
 
-JobManager::JobManager(unsigned workers) {
+JobManager::JobManager(unsigned workers, std::filesystem::path id_file) : ids_(std::move(id_file)) {
   for (unsigned i = 0; i < std::max(1u, workers); ++i) workers_.emplace_back([this] { worker_loop(); });
 }
 
@@ -39,12 +40,33 @@ JobManager::~JobManager() {
   for (auto& t : workers_) t.join();
 }
 
-JobState JobManager::submit(std::string kind, std::string dataset, Work work) {
+void JobManager::check_quota_locked(const std::string& owner) const {
+  std::size_t active = 0;
+  for (const auto& [id, job] : jobs_)
+    active += job->state.owner == owner && (job->state.state == "queued" || job->state.state == "running");
+  if (active >= limits::kMaxQueuedJobsPerOwner)
+    throw RetryLater(
+        Error::Kind::too_many_requests, "job",
+        "owner '" + owner + "' has " + std::to_string(active) + " jobs queued or running, the most " +
+            "one owner may have (kMaxQueuedJobsPerOwner = " + std::to_string(limits::kMaxQueuedJobsPerOwner) +
+            "); retry when one has ended, or cancel one",
+        limits::kJobRetryAfterSeconds);
+}
+
+void JobManager::check_quota(const std::string& owner) const {
+  std::lock_guard lock(mu_);
+  check_quota_locked(owner);
+}
+
+JobState JobManager::submit(std::string kind, std::string dataset, Work work, std::string owner) {
   auto job = std::make_shared<Job>();
   JobState s;
   {
     std::lock_guard lock(mu_);
-    job->state.id = "j" + std::to_string(next_id_++);
+    check_quota_locked(owner);
+    // Persisted before it is handed out (IdCounter): a 202 naming this id never names another job later.
+    job->state.id = "j" + std::to_string(ids_.next());
+    job->state.owner = std::move(owner);
     job->state.kind = std::move(kind);
     job->state.state = "queued";
     job->state.dataset = std::move(dataset);

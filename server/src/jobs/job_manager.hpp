@@ -1,11 +1,15 @@
 #pragma once
 // Long operations (ingest, bundling, synthetic videos, tracker runs and sweeps: one file per kind in
-// jobs/) run as jobs on a worker thread. A job reports progress through a ProgressFn and can be cancelled;
-// every change of a job is announced to listeners (the WebSocket hub), throttled so that a fast job does
-// not flood slow clients.
+// jobs/) run as jobs on a few worker threads (limits::kJobWorkers: a short ingest does not wait behind a
+// long synth). A job reports progress through a ProgressFn and can be cancelled; every change of a job is
+// announced to listeners (the WebSocket hub), throttled so that a fast job does not flood slow clients.
+// Admission: one owner has at most limits::kMaxQueuedJobsPerOwner jobs queued or running (one more is a
+// 429 with Retry-After); job ids are never reused, not even after a restart (the high-water mark is
+// persisted, store/id_counter.hpp). What a job may write is checked by jobs/disk_budget.hpp.
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -16,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/id_counter.hpp"
 #include "trailscope/core/progress.hpp"
 
 namespace trailscope::server {
@@ -27,6 +32,7 @@ struct JobState {
   double progress = 0;  ///< [0, 1]
   std::string stage;
   std::string dataset;  ///< the dataset the job creates or reads (a bundle job: its source, dataset or graph)
+  std::string owner;    ///< the owner name of its submitter ("" from the CLI); it or an admin may cancel
   nlohmann::json result;  ///< on done
   nlohmann::json error;   ///< the error body {"error","detail","param"} on failed (errors/error_table.hpp)
   nlohmann::json to_json() const;
@@ -38,12 +44,17 @@ class JobManager {
   using Work = std::function<nlohmann::json(const ProgressFn&, const CancelToken&)>;
   using Listener = std::function<void(const JobState&)>;
 
-  /// Starts `workers` worker threads (at least 1).
-  explicit JobManager(unsigned workers = 1);
+  /// Starts `workers` worker threads (at least 1). `id_file` keeps the high-water mark of job ids
+  /// (IdCounter; empty: in memory only, numbering from j1). Throws as IdCounter.
+  explicit JobManager(unsigned workers = 1, std::filesystem::path id_file = {});
   ~JobManager();  ///< cancels running jobs and joins the workers
 
-  /// Queues a job and returns its state right away.
-  JobState submit(std::string kind, std::string dataset, Work work);
+  /// Queues a job of `owner` and returns its state right away. Throws check_quota's 429.
+  JobState submit(std::string kind, std::string dataset, Work work, std::string owner = "");
+  /// Throws RetryLater(too_many_requests, "job") with Retry-After limits::kJobRetryAfterSeconds when
+  /// `owner` has limits::kMaxQueuedJobsPerOwner jobs queued or running. submit() checks it too; a handler
+  /// that creates something before submitting checks first.
+  void check_quota(const std::string& owner) const;
   /// Throws not_found("job").
   JobState get(const std::string& id) const;
   std::vector<JobState> list() const;
@@ -62,6 +73,7 @@ class JobManager {
   };
   void worker_loop();
   void notify(const JobState& s);
+  void check_quota_locked(const std::string& owner) const;
 
   mutable std::mutex mu_;
   std::condition_variable cv_;
@@ -71,7 +83,7 @@ class JobManager {
       finished_;  ///< ids of ended jobs, oldest first (pruned past limits::kMaxFinishedJobs)
   std::vector<Listener> listeners_;
   std::vector<std::thread> workers_;
-  unsigned next_id_ = 1;
+  IdCounter ids_;
   bool stopping_ = false;
 };
 

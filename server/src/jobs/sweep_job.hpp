@@ -13,11 +13,13 @@
 
 namespace trailscope::server {
 
-/// Queues a job "sweep" (JobState::dataset = `sweep`, an id of SweepStore::create) over `points` x
-/// `videos` on the frames of `range` (first_frame, frame_count). On any end the sweep is finished as
-/// "done", "cancelled" or "failed"; the job's result is the sweep's JSON. Records the job on the sweep.
+/// Queues a job "sweep" of `owner`, whose runs it owns too (JobState::dataset = `sweep`, an id of
+/// SweepStore::create) over `points` x `videos` on the frames of `range` (first_frame, frame_count). On any
+/// end the sweep is finished as "done", "cancelled" or "failed"; the job's result is the sweep's JSON.
+/// Records the job on the sweep.
 JobState submit_sweep(JobManager& jobs, std::shared_ptr<RunStore> runs, std::shared_ptr<SweepStore> sweeps,
                       const std::string& sweep, std::vector<tracker::TrackerParams> points,
-                      std::vector<tracker::SweepVideo> videos, const tracker::RunOptions& range);
+                      std::vector<tracker::SweepVideo> videos, const tracker::RunOptions& range,
+                      const std::string& owner = "");
 
 }  // namespace trailscope::server

@@ -11,10 +11,11 @@
 
 namespace trailscope::server {
 
-/// Queues a job "track" (JobState::dataset = `video`) that tracks the video file `pack` with `params` and
-/// puts the log into `runs` (source "track"); a cancelled run stores nothing. The job's result is the
-/// run's row.
+/// Queues a job "track" of `owner` (JobState::dataset = `video`) that tracks the video file `pack` with
+/// `params` and puts the log into `runs` (source "track"); a cancelled run stores nothing. The job's result
+/// is the run's row.
 JobState submit_track(JobManager& jobs, std::shared_ptr<RunStore> runs, std::filesystem::path pack,
-                      const tracker::TrackerParams& params, const std::string& video);
+                      const tracker::TrackerParams& params, const std::string& video,
+                      const std::string& owner = "");
 
 }  // namespace trailscope::server

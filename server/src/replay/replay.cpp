@@ -15,13 +15,14 @@ namespace fs = std::filesystem;
 
 Replay::Replay(std::string id, std::string video_id, const fs::path& video,
                const tracker::TrackerParams& params, const std::string& colormap,
-               std::shared_ptr<RunStore> runs)
+               std::shared_ptr<RunStore> runs, std::string owner)
     : id_(std::move(id)),
       video_id_(std::move(video_id)),
       params_(params),
       cmap_(&density::colormap(colormap, "colormap")),
       created_(utc_now_iso()),
-      runs_(std::move(runs)) {
+      runs_(std::move(runs)),
+      owner_(std::move(owner)) {
   reader_ = std::make_unique<tof::DepthVideoReader>(video);
   info_ = reader_->info();
   // The run is prepared here, not on the thread, so bad parameters or intrinsics are this request's 400.
@@ -48,7 +49,7 @@ Replay::Replay(std::string id, std::string video_id, const fs::path& video,
         return;
       }
       log.header.created_utc = created_;
-      const nlohmann::json row = runs_->put(std::move(log), "replay");
+      const nlohmann::json row = runs_->put(std::move(log), "replay", "", owner_);
       std::vector<std::weak_ptr<ReplayListener>> ls;
       {
         std::lock_guard lock(mu_);
@@ -93,7 +94,8 @@ nlohmann::json Replay::to_json() const {
           {"done", done_},
           {"run", run_id_.empty() ? nlohmann::json(nullptr) : nlohmann::json(run_id_)},
           {"error", error_},
-          {"viewers", viewers}};
+          {"viewers", viewers},
+          {"owner", owner_}};
 }
 
 nlohmann::json Replay::header_json() const {

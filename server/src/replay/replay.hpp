@@ -41,19 +41,22 @@ class ReplayListener {
 class Replay {
  public:
   /// Opens the video, fixes the depth colour range from its first frames (2nd..98th percentile of up to
-  /// 10 frames) and starts tracking. Throws Error(invalid_argument, "colormap") for an unknown colormap,
-  /// the reader's errors for an unreadable video, Error(invalid_argument, name) for bad parameters.
+  /// 10 frames) and starts tracking. `owner`: the owner name of its creator, which the stored run records
+  /// too. Throws Error(invalid_argument, "colormap") for an unknown colormap, the reader's errors for an
+  /// unreadable video, Error(invalid_argument, name) for bad parameters.
   Replay(std::string id, std::string video_id, const std::filesystem::path& video,
-         const tracker::TrackerParams& params, const std::string& colormap, std::shared_ptr<RunStore> runs);
+         const tracker::TrackerParams& params, const std::string& colormap, std::shared_ptr<RunStore> runs,
+         std::string owner = "");
   ~Replay();  ///< stops and joins the tracking thread
   Replay(const Replay&) = delete;
   Replay& operator=(const Replay&) = delete;
 
   const std::string& id() const { return id_; }
+  const std::string& owner() const { return owner_; }
   std::size_t frame_count() const { return info_.frame_count; }
   /// The replay object of GET /api/v1/replays/{id}: id, video, frames, fps, width, height, params
   /// ({name: value}), colormap, depth_range_mm [min, max], created, ws, computed, done, run (the stored
-  /// run's id or null), error (null or the error body of a failed run), viewers.
+  /// run's id or null), error (null or the error body of a failed run), viewers, owner.
   nlohmann::json to_json() const;
   /// tracker::header_to_json of the run's header (frame_count: the video's frames).
   nlohmann::json header_json() const;
@@ -86,6 +89,7 @@ class Replay {
   tof::DepthRange range_;
   std::string created_;
   std::shared_ptr<RunStore> runs_;
+  const std::string owner_;
 
   mutable std::mutex mu_;  ///< guards everything below
   std::vector<tracker::FrameLog> frames_;

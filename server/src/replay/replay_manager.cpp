@@ -8,8 +8,9 @@
 namespace trailscope::server {
 namespace fs = std::filesystem;
 
-ReplayManager::ReplayManager(std::shared_ptr<VideoStore> videos, std::shared_ptr<RunStore> runs)
-    : videos_(std::move(videos)), runs_(std::move(runs)) {}
+ReplayManager::ReplayManager(std::shared_ptr<VideoStore> videos, std::shared_ptr<RunStore> runs,
+                             fs::path id_file)
+    : videos_(std::move(videos)), runs_(std::move(runs)), ids_(std::move(id_file)) {}
 
 ReplayManager::~ReplayManager() {
   std::map<std::uint64_t, std::shared_ptr<Replay>> all;
@@ -21,16 +22,16 @@ ReplayManager::~ReplayManager() {
 }
 
 std::shared_ptr<Replay> ReplayManager::create(const std::string& video, const tracker::TrackerParams& params,
-                                              const std::string& colormap) {
+                                              const std::string& colormap, const std::string& owner) {
   const fs::path pack = videos_->pack_path(video);
   std::lock_guard lock(mu_);
   if (replays_.size() >= limits::kMaxReplays)
     throw Error(Error::Kind::conflict, "replay",
                 "at most " + std::to_string(limits::kMaxReplays) +
                     " replays run at once (kMaxReplays); delete one first");
-  const std::uint64_t n = next_;
-  auto r = std::make_shared<Replay>("rp" + std::to_string(n), video, pack, params, colormap, runs_);
-  ++next_;
+  // A replay that fails to start burns its number: a gap, never a repeat.
+  const std::uint64_t n = ids_.next();
+  auto r = std::make_shared<Replay>("rp" + std::to_string(n), video, pack, params, colormap, runs_, owner);
   replays_[n] = r;
   return r;
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "auth/access.hpp"
+#include "jobs/disk_budget.hpp"
 #include "jobs/job_manager.hpp"
 #include "limits.hpp"
 #include "routes/router.hpp"
@@ -30,7 +31,11 @@ struct App {
   std::shared_ptr<DatasetStore> store;
   std::filesystem::path upload_dir;  ///< where streamed uploads are written
   std::filesystem::path web_root;    ///< built browser app (web/dist); empty = none
-  JobManager jobs{1};
+  /// limits::kJobWorkers workers; job ids continue across restarts (<data_root>/.last_job_id).
+  JobManager jobs;
+  /// What jobs may write (jobs/disk_budget.hpp), over the file system of `data_root` (else of the uploads
+  /// folder). Tests replace it with a tiny one before they submit.
+  std::shared_ptr<DiskBudget> disk;
   TileCache tiles;
   /// Encoded animation chunks (routes/animation.cpp), keyed like the tiles by dataset and creation stamp.
   TileCache animation_chunks{limits::kAnimationCacheBytes};

@@ -4,6 +4,7 @@
 #include "jobs/bundle_job.hpp"
 #include "params/bundle_body.hpp"
 #include "routes/handlers.hpp"
+#include "routes/ownership.hpp"
 #include "params/query_params.hpp"
 #include "params/tile_params.hpp"
 #include "routes/png_cache.hpp"
@@ -12,6 +13,7 @@
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/density/png.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server::handlers {
 
@@ -73,7 +75,9 @@ Response bundle_params(App&, const Request& req, const PathParams&) {
 Response delete_bundle(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
   const std::string id = p.at("bundle");
-  need(app.bundles, "a bundle store").remove(id);
+  BundleStore& bundles = need(app.bundles, "a bundle store");
+  require_owner(req, "bundle", BundleStore::kNoun, id, bundles.meta(id).value("owner", ""));
+  bundles.remove(id);
   app.tiles.erase_prefix(params::bundle_cache_prefix(id));
   return Response::no_content();
 }
@@ -95,9 +99,11 @@ Response create_bundle(App& app, const Request& req, const PathParams&) {
         g->graph, br.params,
         {{"graph", g->id}, {"name", g->name}, {"format", bundling::to_string(g->graph.format)}});
   }
+  app.jobs.check_quota(req.principal.owner);  // before an id is spent on a refused job
   const std::string id = bundles.reserve_id();
-  const JobState job = submit_bundle(app.jobs, app.bundles, std::move(in), id, br.params, br.backend,
-                                     br.dataset.empty() ? br.graph : br.dataset);
+  const JobState job =
+      submit_bundle(app.jobs, app.bundles, std::move(in), id, br.params, br.backend,
+                    br.dataset.empty() ? br.graph : br.dataset, app.disk, req.principal.owner);
   return Response::json_at(202, {{"job", job.to_json()}, {"bundle", id}}, "/api/v1/jobs/" + job.id);
 }
 
@@ -108,7 +114,17 @@ Response bundle_image(App& app, const Request& req, const PathParams& p) {
   const auto b = need(app.bundles, "a bundle store").get(p.at("bundle"));
   std::string key = bundle_key(*b) + "/image?";
   const bundling::RenderParams rp = render_params(req, key);
-  // RenderParams::validate keeps width and height within limits::kMaxBundleImagePx (a 400 naming them).
+  // RenderParams::validate keeps width and height within limits::kMaxBundleImagePx (a 400 naming them);
+  // the image's area is bounded too, before anything is drawn: rendering needs ~40 bytes per pixel.
+  const bundling::Viewport view = bundling::Viewport::whole(b->bundled, rp);
+  const std::uint64_t pixels =
+      static_cast<std::uint64_t>(view.width) * static_cast<std::uint64_t>(view.height);
+  if (pixels > limits::kMaxImagePixels)
+    throw Error(Error::Kind::payload_too_large, req.query.count("height") ? "height" : "width",
+                "an image of " + std::to_string(view.width) + " × " + std::to_string(view.height) + " = " +
+                    std::to_string(pixels) + " pixels is larger than one request may render: " +
+                    std::to_string(limits::kMaxImagePixels) +
+                    " pixels (kMaxImagePixels); ask for a smaller width or height, or use the map tiles");
   return cached_png(app.tiles, key, req,
                     [&] { return density::encode_png(bundling::render_bundle(b->bundled, rp)); });
 }

@@ -1,11 +1,13 @@
 #pragma once
 // The routes every stored collection shares (graphs, videos, MOT files, runs, bundles, sweeps): GET of the
 // collection lists it ({"<key>": [metadata, oldest first]}), GET of an item answers its metadata, DELETE
-// removes it (204). None takes query parameters. Routes that do more (a bundle's delete also drops its
+// removes it (204) when the caller is its owner or an admin (routes/ownership.hpp; 403 otherwise, after the
+// 404 of an unknown item). None takes query parameters. Routes that do more (a bundle's delete also drops its
 // cached tiles) have handlers of their own.
 #include <memory>
 
 #include "routes/app.hpp"
+#include "routes/ownership.hpp"
 
 namespace trailscope::server::handlers {
 
@@ -39,7 +41,10 @@ template <typename Store>
 Router::Handler delete_handler(App& app, Collection<Store> c) {
   return [&app, c](const Request& req, const PathParams& p) {
     reject_unknown_params(req, {});
-    need(app.*c.part, c.missing).remove(p.at(c.param));
+    Store& store = need(app.*c.part, c.missing);
+    const std::string id = p.at(c.param);
+    require_owner(req, c.param, Store::kNoun, id, store.meta(id).value("owner", ""));
+    store.remove(id);
     return Response::no_content();
   };
 }

@@ -5,7 +5,7 @@
 #include "store/run_store.hpp"
 #include "trailscope/analysis/run_compare.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 
 namespace trailscope::server::handlers {
 
@@ -35,8 +35,18 @@ Response compare_runs(App& app, const Request& req, const PathParams&) {
   std::vector<std::shared_ptr<const tracker::TrackerLog>> logs;
   std::vector<const tracker::TrackerLog*> runs;
   nlohmann::json rows = nlohmann::json::array();
+  // The frames compared, from the stored rows (404 "run" first), bounded before any log is read.
+  std::uint64_t frames = 0;
   for (const std::string& id : ids) {
     rows.push_back(app.runs->meta(id));  // 404 "run"
+    frames += rows.back().at("summary").value("frames", std::uint64_t{0});
+  }
+  if (frames > limits::kMaxCompareReadFrames)
+    throw Error(Error::Kind::payload_too_large, "runs",
+                "runs: the " + std::to_string(ids.size()) + " runs hold " + std::to_string(frames) +
+                    " frames together, more than one comparison may read: " +
+                    std::to_string(limits::kMaxCompareReadFrames) + " (kMaxCompareReadFrames)");
+  for (const std::string& id : ids) {
     logs.push_back(app.runs->get(id));
     runs.push_back(logs.back().get());
   }

@@ -61,7 +61,8 @@ Response create_sectors(App& app, const Request& req, const PathParams&) {
     name = n->second;
   }
   const std::string text = upload_bytes(req, limits::kMaxSectorUploadBytes, kTooLarge);
-  const nlohmann::json meta = store.put(name, text, sector_figures(parse_sector_text(text)));
+  const nlohmann::json meta =
+      store.put(name, text, sector_figures(parse_sector_text(text)), req.principal.owner);
   return Response::json_at(201, meta, "/api/v1/sectors/" + meta.at("id").get<std::string>());
 }
 
@@ -83,7 +84,7 @@ Response create_congestion(App& app, const Request& req, const PathParams&) {
     r.counts.sectors = parse_sector_text(need(app.sectors, "a sector store").geojson(r.sectors));
     congestion::validate(r.counts);
   }
-  const JobState job = submit_congestion(app.jobs, app.congestion, ds, std::move(r));
+  const JobState job = submit_congestion(app.jobs, app.congestion, ds, std::move(r), req.principal.owner);
   return Response::json_at(202, {{"job", job.to_json()}, {"congestion", "/api/v1/congestion/" + job.id}},
                            "/api/v1/jobs/" + job.id);
 }

@@ -1,6 +1,7 @@
 #include <chrono>
 
 #include "routes/handlers.hpp"
+#include "routes/ownership.hpp"
 #include "params/query_params.hpp"
 #include "params/upload_body.hpp"
 #include "params/tile_params.hpp"
@@ -28,6 +29,7 @@ Response get_dataset(App& app, const Request& req, const PathParams& p) {
 Response delete_dataset(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
   const std::string id = p.at("dataset");
+  require_owner(req, "dataset", "dataset", id, app.store->get(id)->owner);  // after get's 404
   app.store->remove(id);
   app.tiles.erase_prefix(params::dataset_cache_prefix(id));
   app.animation_chunks.erase_prefix(params::dataset_cache_prefix(id));
@@ -48,8 +50,10 @@ Response create_dataset(App& app, const Request& req, const PathParams&) {
   }
   if (app.store->contains(ing.name))
     throw Error(Error::Kind::conflict, "name", "dataset '" + ing.name + "' already exists");
+  ing.owner = req.principal.owner;
+  app.jobs.check_quota(ing.owner);
   ing.file = upload_file(req, app.upload_dir);
-  const JobState job = submit_ingest(app.jobs, app.store, std::move(ing));
+  const JobState job = submit_ingest(app.jobs, app.store, std::move(ing), app.disk);
   return Response::json_at(202, {{"job", job.to_json()}}, "/api/v1/jobs/" + job.id);
 }
 

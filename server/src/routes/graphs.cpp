@@ -48,6 +48,7 @@ Response create_graph(App& app, const Request& req, const PathParams&) {
     g.graph = bundling::parse_graph(bytes, {}, format ? &*format : nullptr);
   }
   g.created = utc_now_iso();
+  g.owner = req.principal.owner;
   const auto stored = graphs.put(std::move(g));
   return Response::json_at(201, stored->to_json(), "/api/v1/graphs/" + stored->id);
 }

@@ -1,4 +1,5 @@
 #include "routes/handlers.hpp"
+#include "routes/ownership.hpp"
 
 namespace trailscope::server::handlers {
 
@@ -16,7 +17,9 @@ Response get_job(App& app, const Request& req, const PathParams& p) {
 
 Response cancel_job(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
-  return Response::json(200, app.jobs.cancel(p.at("job")).to_json());
+  const std::string id = p.at("job");
+  require_owner(req, "job", "job", id, app.jobs.get(id).owner, "cancel");
+  return Response::json(200, app.jobs.cancel(id).to_json());
 }
 
 }  // namespace trailscope::server::handlers

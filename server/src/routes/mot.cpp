@@ -4,7 +4,7 @@
 #include "params/json_fields.hpp"
 #include "params/upload_body.hpp"
 #include "trailscope/core/error.hpp"
-#include "trailscope/core/limits.hpp"
+#include "limits.hpp"
 #include "trailscope/metrics/evaluate.hpp"
 
 namespace trailscope::server::handlers {
@@ -34,8 +34,9 @@ Response create_mot(App& app, const Request& req, const PathParams&) {
   if (k->second != "gt" && k->second != "result" && k->second != "points")
     throw invalid_argument("kind", "kind must be gt, result or points, got '" + k->second + "'");
   const auto n = req.query.find("name");
-  const nlohmann::json row = store.put(n == req.query.end() ? "" : n->second, k->second,
-                                       upload_bytes(req, limits::kMaxRunBytes, kTooLarge));
+  const nlohmann::json row =
+      store.put(n == req.query.end() ? "" : n->second, k->second,
+                upload_bytes(req, limits::kMaxRunBytes, kTooLarge), req.principal.owner);
   return Response::json_at(201, row, "/api/v1/mot/" + row.at("id").get<std::string>());
 }
 
@@ -55,6 +56,14 @@ Response compute_metrics(App& app, const Request& req, const PathParams&) {
   options.frames = integer_field(j, "frames", options.frames);
   const bool per_frame = bool_field(j, "per_frame", false);
   MotStore& store = need(app.mot, "a MOT store");
+  // The rows evaluated, from the stored rows (404 first), bounded before any text is read or parsed.
+  const std::uint64_t rows = store.meta(string_field(j, "gt"), "gt").value("rows", std::uint64_t{0}) +
+                             store.meta(string_field(j, "run"), "run").value("rows", std::uint64_t{0});
+  if (rows > limits::kMaxMetricsRows)
+    throw Error(Error::Kind::payload_too_large, "run",
+                "gt and run hold " + std::to_string(rows) +
+                    " rows together, more than one evaluation may read: " +
+                    std::to_string(limits::kMaxMetricsRows) + " (kMaxMetricsRows)");
   const bool iou = options.kind == metrics::SimilarityKind::iou;
   const std::string gt = mot_text(store, j, "gt", iou ? "gt" : "points", similarity);
   const std::string run = mot_text(store, j, "run", iou ? "result" : "points", similarity);

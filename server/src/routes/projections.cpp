@@ -83,6 +83,40 @@ RunsSource runs_source(const nlohmann::json& j) {
   return s;
 }
 
+/// The work of projecting `rows` rows with `o`, checked against what one synchronous request may do before
+/// any of it starts: Force Scheme computes every pair of rows each iteration (rows² × iterations, against
+/// limits::kMaxForceSchemeRequestWork); t-SNE spends O(rows) per iteration of both phases (rows ×
+/// (exaggeration + main iterations), against limits::kMaxTsneRequestWork). PCA, MDS (landmark above
+/// limits::kMaxExactMdsRows) and LAMP (Force Scheme on ⌈√rows⌉ control points) stay within
+/// limits::kMaxProjectionRequestRows. Throws Error(payload_too_large) naming "iterations" when the request
+/// set them, else "table".
+void check_projection_work(std::size_t rows, const projection::ProjectOptions& o) {
+  const std::string param = o.iterations > 0 ? "iterations" : "table";
+  const std::uint64_t n = rows;
+  const char* fix =
+      "; use fewer rows or iterations, or `trailscope project` (no limit on work, with progress)";
+  if (o.method == projection::Method::force) {
+    const std::uint64_t its = o.iterations > 0 ? static_cast<std::uint64_t>(o.iterations) : 100;
+    const std::uint64_t work = n * n * its;
+    if (work > limits::kMaxForceSchemeRequestWork)
+      throw Error(
+          Error::Kind::payload_too_large, param,
+          "method force on " + std::to_string(n) + " rows × " + std::to_string(its) + " iterations is " +
+              std::to_string(work) + " units of work (rows² × iterations), more than one request may do: " +
+              std::to_string(limits::kMaxForceSchemeRequestWork) + " (kMaxForceSchemeRequestWork)" + fix);
+  } else if (o.method == projection::Method::tsne) {
+    const std::uint64_t its = static_cast<std::uint64_t>(o.exaggeration_iterations) +
+                              (o.iterations > 0 ? static_cast<std::uint64_t>(o.iterations) : 500);
+    const std::uint64_t work = n * its;
+    if (work > limits::kMaxTsneRequestWork)
+      throw Error(Error::Kind::payload_too_large, param,
+                  "method tsne on " + std::to_string(n) + " rows × " + std::to_string(its) +
+                      " iterations (early exaggeration included) is " + std::to_string(work) +
+                      " units of work (rows × iterations), more than one request may do: " +
+                      std::to_string(limits::kMaxTsneRequestWork) + " (kMaxTsneRequestWork)" + fix);
+  }
+}
+
 }  // namespace
 
 Response create_projection(App& app, const Request& req, const PathParams&) {
@@ -125,6 +159,10 @@ Response create_projection(App& app, const Request& req, const PathParams&) {
     row_ids = runs.row_ids;
     for (const auto& d : runs.dropped) dropped.push_back({{"name", d.name}, {"why", d.why}});
   }
+  check_projection_work(table.rows, o);
+  // The compute pool sets req.cancel when the client leaves or the deadline passes: t-SNE and the other
+  // iterative methods check it between iterations.
+  o.cancel = req.cancel.get();
   nlohmann::json out = projection::to_json(projection::project_with_quality(table, o, static_cast<int>(k)));
   out["row_ids"] = std::move(row_ids);
   out["dropped_columns"] = std::move(dropped);

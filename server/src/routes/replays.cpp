@@ -1,4 +1,5 @@
 #include "routes/handlers.hpp"
+#include "routes/ownership.hpp"
 #include "params/json_fields.hpp"
 #include "limits.hpp"
 #include "trailscope/core/error.hpp"
@@ -23,7 +24,10 @@ Response get_replay(App& app, const Request& req, const PathParams& p) {
 
 Response delete_replay(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
-  need(app.replays, "a data folder").remove(p.at("replay"));
+  ReplayManager& replays = need(app.replays, "a data folder");
+  const std::string id = p.at("replay");
+  require_owner(req, "replay", "replay", id, replays.get(id)->owner());
+  replays.remove(id);
   return Response::no_content();
 }
 
@@ -33,7 +37,7 @@ Response create_replay(App& app, const Request& req, const PathParams&) {
   const std::string video = string_field(j, "video");
   const tracker::TrackerParams params = parse_tracker_params(j.value("params", nlohmann::json()));
   const std::string colormap = j.contains("colormap") ? string_field(j, "colormap") : kDefaultColormap;
-  const auto replay = need(app.replays, "a data folder").create(video, params, colormap);
+  const auto replay = need(app.replays, "a data folder").create(video, params, colormap, req.principal.owner);
   return Response::json_at(201, replay->to_json(), "/api/v1/replays/" + replay->id());
 }
 

@@ -7,13 +7,18 @@ namespace trailscope::server {
 
 App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
          std::size_t tile_cache_bytes, const std::filesystem::path& data_root)
-    : store(std::move(s)), upload_dir(std::move(uploads)), web_root(std::move(web)), tiles(tile_cache_bytes) {
+    : store(std::move(s)),
+      upload_dir(std::move(uploads)),
+      web_root(std::move(web)),
+      jobs(limits::kJobWorkers, data_root.empty() ? data_root : data_root / ".last_job_id"),
+      disk(DiskBudget::open(data_root.empty() ? upload_dir : data_root)),
+      tiles(tile_cache_bytes) {
   if (!data_root.empty()) {
     graphs = std::make_shared<GraphStore>(data_root);
     bundles = std::make_shared<BundleStore>(data_root);
     videos = std::make_shared<VideoStore>(data_root);
     runs = std::make_shared<RunStore>(data_root);
-    replays = std::make_shared<ReplayManager>(videos, runs);
+    replays = std::make_shared<ReplayManager>(videos, runs, data_root / ".last_replay_id");
     mot = std::make_shared<MotStore>(data_root);
     sweeps = std::make_shared<SweepStore>(data_root);
     sectors = std::make_shared<SectorStore>(data_root);

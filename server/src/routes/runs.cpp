@@ -44,7 +44,7 @@ Response create_run(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {});
   RunStore& runs = need(app.runs, "a run store");
   const std::string bytes = upload_bytes(req, limits::kMaxRunBytes, kTooLarge);
-  const nlohmann::json row = runs.put(tracker::decode_log(bytes), "upload");
+  const nlohmann::json row = runs.put(tracker::decode_log(bytes), "upload", "", req.principal.owner);
   return Response::json_at(201, row, "/api/v1/runs/" + row.at("id").get<std::string>());
 }
 
@@ -56,7 +56,7 @@ Response track_run(App& app, const Request& req, const PathParams&) {
   need(app.videos, "a video store");
   const fs::path pack = app.videos->pack_path(video);
   need(app.runs, "a run store").check_room();
-  const JobState job = submit_track(app.jobs, app.runs, pack, params, video);
+  const JobState job = submit_track(app.jobs, app.runs, pack, params, video, req.principal.owner);
   return Response::json_at(202, {{"job", job.to_json()}}, "/api/v1/jobs/" + job.id);
 }
 

@@ -73,12 +73,15 @@ Response create_sweep(App& app, const Request& req, const PathParams&) {
                     " videos = " + std::to_string(total) + " runs, more than the limit of " +
                     std::to_string(limits::kMaxSweepRuns) + " (kMaxSweepRuns)");
   app.runs->check_room(total);
+  app.jobs.check_quota(req.principal.owner);  // before the sweep is recorded
   const std::string id =
-      sweeps.create(tracker::to_json(spec), *v, {{"first_frame", first}, {"frame_count", count}}, total);
+      sweeps.create(tracker::to_json(spec), *v, {{"first_frame", first}, {"frame_count", count}}, total,
+                    req.principal.owner);
   tracker::RunOptions range;
   range.first_frame = static_cast<std::size_t>(first);
   range.frame_count = static_cast<std::size_t>(count);
-  const JobState job = submit_sweep(app.jobs, app.runs, app.sweeps, id, points, std::move(videos), range);
+  const JobState job =
+      submit_sweep(app.jobs, app.runs, app.sweeps, id, points, std::move(videos), range, req.principal.owner);
   return Response::json_at(202, {{"job", job.to_json()}, {"sweep", sweeps.get(id)}}, "/api/v1/sweeps/" + id);
 }
 

@@ -80,7 +80,7 @@ Response create_video(App& app, const Request& req, const PathParams&) {
     fs::remove(file, ec);
     throw;
   }
-  const nlohmann::json meta = videos.commit_pack(id, file, name);
+  const nlohmann::json meta = videos.commit_pack(id, file, name, req.principal.owner);
   return Response::json_at(201, meta, "/api/v1/videos/" + id);
 }
 
@@ -101,7 +101,7 @@ Response synth_video(App& app, const Request& req, const PathParams&) {
   if (name.empty()) name = std::string(tof::to_string(o.scenario)) + " seed " + std::to_string(o.seed);
   tof::ToFSynth check(o);             // every option's range, now rather than in the job
   need(app.videos, "a video store");  // the server has a video store
-  const auto [job, id] = submit_synth(app.jobs, app.videos, o, name);
+  const auto [job, id] = submit_synth(app.jobs, app.videos, o, name, *app.disk, req.principal.owner);
   return Response::json_at(202, {{"job", job.to_json()}, {"video", id}}, "/api/v1/jobs/" + job.id);
 }
 

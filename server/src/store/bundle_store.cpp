@@ -105,7 +105,13 @@ nlohmann::json StoredBundle::to_json() const {
         {"total", t.total_ms}}},
       {"path", b.path},
       {"device", b.device},
+      {"owner", owner},
   };
+}
+
+std::uint64_t BundleStore::bytes_estimate(const StoredBundle& b) {
+  return b.bundled.lines.points() * kBytesPerPoint + (b.bundled.lines.size() + 1) * kBytesPerPolyline +
+         (64u << 10);
 }
 
 void BundleStore::write_bundle(const StoredBundle& sb, const fs::path& dir) {
@@ -135,6 +141,7 @@ std::shared_ptr<StoredBundle> BundleStore::read_bundle(const fs::path& dir) {
   sb->dataset = m.value("dataset", "");
   sb->units = parse_bundle_units(m.at("units").get<std::string>());
   sb->input_points = m.value("input_points", std::uint64_t{0});
+  sb->owner = m.value("owner", "");
   bundling::Bundled& b = sb->bundled;
   b.frame = frame_from(m.at("frame"));
   for (const auto& [k, v] : m.at("params").items()) b.params.set(k, v.get<std::string>());

@@ -33,15 +33,17 @@ struct StoredBundle {
   std::string dataset;    ///< the dataset of a flight-trail bundle ("" for a graph): its map tiles' dataset
   BundleUnits units = BundleUnits::plane;
   std::uint64_t input_points = 0;  ///< points of the input polylines, before resampling
+  std::string owner;               ///< the owner name of its creator ("" for bundles made before owners)
   bundling::Bundled bundled;
 
   /// The API's Bundle object: id, created, source, units, params, counts, frame, quality, times_ms,
-  /// path, device.
+  /// path, device, owner.
   nlohmann::json to_json() const;
 };
 
 class BundleStore {
  public:
+  static constexpr const char* kNoun = "bundle";  ///< in messages
   /// Opens (creating if needed) <root>/bundles and notes every complete bundle (manifest read now, the
   /// geometry on first get()). A folder that fails to load is reported on stderr and skipped.
   explicit BundleStore(std::filesystem::path root);
@@ -60,6 +62,12 @@ class BundleStore {
   /// Throws not_found("bundle").
   void remove(const std::string& id);
   std::size_t size() const;
+
+  /// Bytes of a bundle's column files: kBytesPerPoint per point (x, y, original x, original y, t and
+  /// displacement as float32), kBytesPerPolyline per polyline (its offset, length and angle), and 64 KiB
+  /// for the manifest. What a disk budget grants a bundle job.
+  static constexpr std::uint64_t kBytesPerPoint = 24, kBytesPerPolyline = 12;
+  static std::uint64_t bytes_estimate(const StoredBundle& b);
 
   /// Writes / reads one bundle folder (exposed for tests).
   static void write_bundle(const StoredBundle& b, const std::filesystem::path& dir);

@@ -40,7 +40,9 @@ std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const Inge
   ds->format = ingest::to_string(report.format);
   ds->created = utc_now_iso();
   ds->ingest = report.to_json();
+  ds->owner = req.owner;
   ds->trails = std::make_shared<const TrailSet>(std::move(trails));
+  if (req.before_write) req.before_write(*ds);
   store.put(ds);
   return ds;
 }

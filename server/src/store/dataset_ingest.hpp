@@ -2,6 +2,7 @@
 // Ingest a file into the store as one dataset: the same step for `trailscope ingest` and for
 // POST /api/v1/datasets. The dataset appears whole or not at all.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -14,6 +15,10 @@ struct IngestRequest {
   std::filesystem::path file;         ///< plain or gzip
   std::string name;                   ///< dataset id (validated)
   std::optional<std::string> format;  ///< a format name; detected from content when absent
+  std::string owner;                  ///< the owner name the dataset records ("" from the CLI)
+  /// Called with the assembled dataset before it is written; a throw (a disk budget's 507) stops the
+  /// ingest with nothing written.
+  std::function<void(const Dataset&)> before_write;
 };
 
 /// Parses `req.file`, assembles flights and stores the dataset. Throws what ingest_file throws

@@ -43,7 +43,8 @@ nlohmann::json Dataset::to_json() const {
           {"t_max", t.t_max()},
           {"bbox", {t.lon_min(), t.lat_min(), t.lon_max(), t.lat_max()}},
           {"alt_max_m", alt_max},
-          {"ingest", ingest}};
+          {"ingest", ingest},
+          {"owner", owner}};
 }
 
 }  // namespace trailscope::server

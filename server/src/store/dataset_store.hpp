@@ -19,9 +19,10 @@ struct Dataset {
   std::string format;     ///< source format ("so6", "opensky_csv", "demo", ...)
   std::string created;    ///< ISO 8601 UTC
   nlohmann::json ingest;  ///< the ingest report
+  std::string owner;      ///< the owner name of its creator ("" for datasets made before owners, the CLI's)
   std::shared_ptr<const TrailSet> trails;
 
-  /// The API's Dataset object (id, name, format, flights, points, t_min, t_max, bbox, ...).
+  /// The API's Dataset object (id, name, format, flights, points, t_min, t_max, bbox, owner, ...).
   nlohmann::json to_json() const;
 };
 

@@ -57,6 +57,10 @@ std::shared_ptr<const Dataset> EmbeddedStore::load_locked(const std::string& id)
   }
 }
 
+std::uint64_t EmbeddedStore::bytes_estimate(const Dataset& ds) {
+  return ds.trails->num_points() * kBytesPerPoint + ds.trails->num_flights() * kBytesPerFlight + (64u << 10);
+}
+
 void EmbeddedStore::write_dataset(const Dataset& ds, const fs::path& dir) {
   const TrailSet& t = *ds.trails;
   const PointColumns& p = t.points();
@@ -76,11 +80,18 @@ void EmbeddedStore::write_dataset(const Dataset& ds, const fs::path& dir) {
     icao.push_back(f.icao24), callsign.push_back(f.callsign);
   }
   write_column(dir, "flight_ranges", ranges);
-  const nlohmann::json manifest = {
-      {"magic", kMagic},     {"version", kFormatVersion}, {"id", ds.id},
-      {"name", ds.name},     {"format", ds.format},       {"created", ds.created},
-      {"ingest", ds.ingest}, {"points", p.size()},        {"flights", t.num_flights()},
-      {"icao24", icao},      {"callsign", callsign}};
+  const nlohmann::json manifest = {{"magic", kMagic},
+                                   {"version", kFormatVersion},
+                                   {"id", ds.id},
+                                   {"name", ds.name},
+                                   {"format", ds.format},
+                                   {"created", ds.created},
+                                   {"ingest", ds.ingest},
+                                   {"points", p.size()},
+                                   {"flights", t.num_flights()},
+                                   {"owner", ds.owner},
+                                   {"icao24", icao},
+                                   {"callsign", callsign}};
   // The manifest is written last: a folder without it is incomplete by definition.
   column_io::write_manifest(dir, manifest);
 }
@@ -120,6 +131,7 @@ std::shared_ptr<Dataset> EmbeddedStore::read_dataset(const fs::path& dir) {
   ds->format = m.value("format", "");
   ds->created = m.value("created", "");
   ds->ingest = m.value("ingest", nlohmann::json::object());
+  ds->owner = m.value("owner", "");
   ds->trails = std::make_shared<const TrailSet>(std::move(p), std::move(flights));
   return ds;
 }

@@ -34,6 +34,12 @@ class EmbeddedStore final : public DatasetStore {
   /// Folder for streamed uploads (same filesystem as the store, so ingest can read them in place).
   std::filesystem::path upload_dir() const { return root_ / "uploads"; }
 
+  /// Bytes of a dataset's column files: kBytesPerPoint per point (t 8, lat, lon, alt, speed, track, vrate 4
+  /// each, on_ground 1), kBytesPerFlight per flight (its range, 8, and its identifiers in the manifest, at
+  /// most 64), and 64 KiB for the rest of the manifest. What a disk budget grants an ingest.
+  static constexpr std::uint64_t kBytesPerPoint = 33, kBytesPerFlight = 72;
+  static std::uint64_t bytes_estimate(const Dataset& ds);
+
   /// Writes / reads one dataset folder (exposed for tests).
   static void write_dataset(const Dataset& ds, const std::filesystem::path& dir);
   static std::shared_ptr<Dataset> read_dataset(const std::filesystem::path& dir);

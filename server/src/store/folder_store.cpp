@@ -10,7 +10,9 @@ namespace fs = std::filesystem;
 using namespace column_io;
 
 FolderStore::FolderStore(fs::path root, Layout layout, const ReadMeta& read_meta)
-    : root_(std::move(root)), layout_(std::move(layout)), index_(layout_.prefix, layout_.noun) {
+    : root_(std::move(root)),
+      layout_(std::move(layout)),
+      index_(layout_.prefix, layout_.noun, root_ / layout_.folder / kIdCounterFile) {
   std::error_code ec;
   for (const std::string& sub : {layout_.folder, std::string("tmp")}) {
     fs::create_directories(root_ / sub, ec);

@@ -35,6 +35,7 @@ std::shared_ptr<StoredGraph> read_graph_dir(const fs::path& dir) {
   g->name = m.value("name", g->id);
   g->created = m.value("created", "");
   g->bytes = m.value("bytes", std::uint64_t{0});
+  g->owner = m.value("owner", "");
   bundling::Graph& gr = g->graph;
   const std::size_t n = m.at("edges").get<std::size_t>(), pts = m.at("points").get<std::size_t>();
   read_column(dir, "x", gr.edges.x, pts);
@@ -72,7 +73,8 @@ nlohmann::json StoredGraph::to_json() const {
           {"geographic", graph.geographic},
           {"y_up", graph.y_up},
           {"units", graph.geographic ? "epsg3857" : "source"},
-          {"bbox", e.points() ? nlohmann::json{x0, y0, x1, y1} : nlohmann::json(nullptr)}};
+          {"bbox", e.points() ? nlohmann::json{x0, y0, x1, y1} : nlohmann::json(nullptr)},
+          {"owner", owner}};
 }
 
 GraphStore::GraphStore(fs::path root)

@@ -21,15 +21,17 @@ struct StoredGraph {
   std::string name;         ///< display name (?name= of the upload)
   std::string created;      ///< ISO 8601 UTC
   std::uint64_t bytes = 0;  ///< size of the upload
+  std::string owner;        ///< the owner name of its creator ("" for graphs made before owners)
   bundling::Graph graph;
 
   /// The API's Graph object: id, name, format, created, bytes, edges, points, nodes, skipped, geographic,
-  /// y_up, bbox (source units).
+  /// y_up, bbox (source units), owner.
   nlohmann::json to_json() const;
 };
 
 class GraphStore {
  public:
+  static constexpr const char* kNoun = "graph";  ///< in messages
   /// Opens (creating if needed) <root>/graphs and notes every complete graph (its manifest now, its
   /// polylines on first get()). A folder that fails to load is reported on stderr and skipped.
   explicit GraphStore(std::filesystem::path root);

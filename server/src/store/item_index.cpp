@@ -27,14 +27,15 @@ std::uint64_t ItemIndex::number(const std::string& id) const {
 }
 
 std::string ItemIndex::next_id() {
-  return store_id(prefix_, next_++);
+  return store_id(prefix_, counter_.next());
 }
 
 void ItemIndex::add(const std::string& id, nlohmann::json meta) {
   const std::uint64_t n = number(id);
   ids_[n] = id;
+  if (meta.is_object() && !meta.contains("owner")) meta["owner"] = "";  // made before owners were recorded
   meta_[id] = std::move(meta);
-  next_ = std::max(next_, n + 1);
+  counter_.observe(n);
 }
 
 void ItemIndex::erase(const std::string& id) {

@@ -1,26 +1,35 @@
 #pragma once
 // The in-memory index of a store's numbered items (folder_store.hpp, row_store.hpp): ids "<prefix><n>"
-// numbered from 1 in creation order and never reused while the store is open, each with its metadata
-// (a JSON row), oldest first. Not thread-safe: the store's lock guards it.
+// numbered from 1 in creation order and never reused, not even across restarts (the high-water mark is
+// persisted in the store's folder, id_counter.hpp), each with its metadata (a JSON row), oldest first.
+// Every item's metadata has an "owner" (the owner name of its creator; "" for items made before owners
+// were recorded, and by the CLI). Not thread-safe: the store's lock guards it.
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "store/id_counter.hpp"
+
 namespace trailscope::server {
 
 class ItemIndex {
  public:
-  /// `noun` names an item in messages ("graph", "MOT file").
-  ItemIndex(char prefix, std::string noun) : prefix_(prefix), noun_(std::move(noun)) {}
+  /// `noun` names an item in messages ("graph", "MOT file"). `counter_file` keeps the high-water mark
+  /// (IdCounter; empty: in memory only). Throws as IdCounter.
+  ItemIndex(char prefix, std::string noun, std::filesystem::path counter_file = {})
+      : prefix_(prefix), noun_(std::move(noun)), counter_(std::move(counter_file)) {}
 
   /// The number of one of this index's ids (0 when `id` is not one).
   std::uint64_t number(const std::string& id) const;
-  /// A new id (the number after every one seen).
+  /// A new id, numbered after every id this index (or its counter file) has ever seen; persisted before
+  /// it is returned. Throws Error(internal) when the counter cannot be written.
   std::string next_id();
-  /// Records item `id` (one of number() != 0) with its metadata; later ids are numbered after it.
+  /// Records item `id` (one of number() != 0) with its metadata (given "owner": "" when it has none);
+  /// later ids are numbered after it.
   void add(const std::string& id, nlohmann::json meta);
   void erase(const std::string& id);
 
@@ -41,7 +50,7 @@ class ItemIndex {
   std::string noun_;
   std::map<std::uint64_t, std::string> ids_;  ///< number → id, oldest first
   std::map<std::string, nlohmann::json> meta_;
-  std::uint64_t next_ = 1;
+  IdCounter counter_;
 };
 
 /// The number of a store id ("g12" → 12; 0 when it is not the prefix followed by digits).

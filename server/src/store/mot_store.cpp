@@ -40,7 +40,8 @@ std::string MotStore::text(const std::string& id, const std::string& param) cons
   return rows_.read_payload(id, param, [&](const fs::path& p) { return metrics::read_text_file(p, param); });
 }
 
-nlohmann::json MotStore::put(const std::string& name, const std::string& kind, const std::string& text) {
+nlohmann::json MotStore::put(const std::string& name, const std::string& kind, const std::string& text,
+                             const std::string& owner) {
   nlohmann::json row;
   if (kind == "gt")
     row = figures(metrics::parse_mot_gt(text, "body"));
@@ -52,6 +53,7 @@ nlohmann::json MotStore::put(const std::string& name, const std::string& kind, c
     throw invalid_argument("kind", "kind must be gt, result or points, got '" + kind + "'");
   row["name"] = name;
   row["kind"] = kind;
+  row["owner"] = owner;
   return rows_.put(std::move(row), [&](const fs::path& p) { write_file_atomic(p, text); });
 }
 

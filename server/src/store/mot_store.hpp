@@ -16,20 +16,22 @@ namespace trailscope::server {
 
 class MotStore {
  public:
+  static constexpr const char* kNoun = "MOT file";  ///< in messages
   /// Opens (creating if needed) <root>/mot. A row that fails to load is reported on stderr and skipped.
   explicit MotStore(std::filesystem::path root);
 
   /// Every file's row, oldest first.
   std::vector<nlohmann::json> list() const;
   /// {id ("m1", ...), name, kind ("gt" | "result" | "points"), created, bytes, rows, frames (last frame
-  /// number), ids (distinct object ids)}. Throws not_found(param).
+  /// number), ids (distinct object ids), owner}. Throws not_found(param).
   nlohmann::json meta(const std::string& id, const std::string& param = "mot") const;
   /// The whole text. Throws not_found(param).
   std::string text(const std::string& id, const std::string& param = "mot") const;
   /// Checks `text` with the reader of `kind` (every malformed line, Error(unprocessable, "body")) and
-  /// stores it under the next id. Throws invalid_argument("kind") for another kind, Error(conflict, "mot")
-  /// at limits::kMaxStoredRuns. Returns the row.
-  nlohmann::json put(const std::string& name, const std::string& kind, const std::string& text);
+  /// stores it under the next id, owned by `owner`. Throws invalid_argument("kind") for another kind,
+  /// Error(conflict, "mot") at limits::kMaxStoredRuns. Returns the row.
+  nlohmann::json put(const std::string& name, const std::string& kind, const std::string& text,
+                     const std::string& owner = "");
   /// Throws not_found("mot").
   void remove(const std::string& id);
 

@@ -21,7 +21,9 @@ Error full(const RowStore::Kind& kind) {
 }  // namespace
 
 RowStore::RowStore(fs::path root, Kind kind)
-    : dir_(std::move(root) / kind.dir), kind_(std::move(kind)), index_(kind_.prefix, kind_.noun) {
+    : dir_(std::move(root) / kind.dir),
+      kind_(std::move(kind)),
+      index_(kind_.prefix, kind_.noun, dir_ / kIdCounterFile) {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec) throw io_error(dir_, "create");

@@ -90,7 +90,8 @@ void RunStore::check_room(std::size_t runs) const {
   rows_.check_room(runs);
 }
 
-nlohmann::json RunStore::put(tracker::TrackerLog log, const std::string& origin, const std::string& sweep) {
+nlohmann::json RunStore::put(tracker::TrackerLog log, const std::string& origin, const std::string& sweep,
+                             const std::string& owner) {
   nlohmann::json names = nlohmann::json::array(), values = nlohmann::json::array();
   for (const auto& p : log.header.params) names.push_back(p.name), values.push_back(p.value);
   nlohmann::json row = {{"run_id", log.header.run_id},
@@ -101,7 +102,8 @@ nlohmann::json RunStore::put(tracker::TrackerLog log, const std::string& origin,
                         {"tracker_version", log.header.tracker_version},
                         {"param_names", std::move(names)},
                         {"params", std::move(values)},
-                        {"summary", run_summary(log)}};
+                        {"summary", run_summary(log)},
+                        {"owner", owner}};
   row = rows_.put(std::move(row), [&](const fs::path& p) { tracker::write_log(log, p, true); });
   touch(row.at("id").get<std::string>(), std::make_shared<const tracker::TrackerLog>(std::move(log)));
   return row;

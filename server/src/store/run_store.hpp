@@ -28,6 +28,7 @@ nlohmann::json run_summary(const tracker::TrackerLog& log);
 
 class RunStore {
  public:
+  static constexpr const char* kNoun = "run";  ///< in messages
   /// Opens (creating if needed) <root>/runs; see above. A row that fails to load is reported on stderr and
   /// skipped.
   explicit RunStore(std::filesystem::path root);
@@ -37,15 +38,17 @@ class RunStore {
   /// The API's Run row: id (store id, "r1", ...), run_id (the log's own), video, origin ("upload",
   /// "track", "replay", "sweep"), sweep (the sweep's id or null), created (stored, ISO 8601 UTC), run_created
   /// (the log's), tracker_version, param_names and params (the log's parameter vector, in its order), bytes
-  /// (of the .tslog) and summary (run_summary). Throws not_found("run").
+  /// (of the .tslog), summary (run_summary) and owner (of the run's creator). Throws not_found("run").
   nlohmann::json meta(const std::string& id) const;
   /// The whole log. Throws not_found("run").
   std::shared_ptr<const tracker::TrackerLog> get(const std::string& id) const;
   /// The .tslog file (binary protobuf). Throws not_found("run").
   std::filesystem::path log_path(const std::string& id) const;
-  /// Stores a log under the next id; `sweep` is the id of the sweep that made it (the row's "sweep",
-  /// null when empty). Throws Error(conflict, "run") at limits::kMaxStoredRuns. Returns the row.
-  nlohmann::json put(tracker::TrackerLog log, const std::string& origin, const std::string& sweep = "");
+  /// Stores a log under the next id, owned by `owner`; `sweep` is the id of the sweep that made it (the
+  /// row's "sweep", null when empty). Throws Error(conflict, "run") at limits::kMaxStoredRuns. Returns the
+  /// row.
+  nlohmann::json put(tracker::TrackerLog log, const std::string& origin, const std::string& sweep = "",
+                     const std::string& owner = "");
   /// Throws Error(conflict, "run") when `runs` more runs cannot be stored (checked before long work).
   void check_room(std::size_t runs = 1) const;
   /// Throws not_found("run").

@@ -42,7 +42,8 @@ std::string SectorStore::geojson(const std::string& id) const {
   return text.str();
 }
 
-nlohmann::json SectorStore::put(const std::string& name, const std::string& geojson, nlohmann::json figures) {
+nlohmann::json SectorStore::put(const std::string& name, const std::string& geojson, nlohmann::json figures,
+                                const std::string& owner) {
   std::lock_guard lock(mu_);
   if (folders_.size() >= limits::kMaxStoredSectorSets)
     throw Error(Error::Kind::conflict, "sectors",
@@ -54,6 +55,7 @@ nlohmann::json SectorStore::put(const std::string& name, const std::string& geoj
   meta["name"] = name.empty() ? id : name;
   meta["created"] = utc_now_iso();
   meta["bytes"] = geojson.size();
+  meta["owner"] = owner;
   const fs::path tmp = folders_.stage(id);
   try {
     write_file_atomic(tmp / kGeoJsonFile, geojson);

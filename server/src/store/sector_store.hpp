@@ -19,22 +19,25 @@ namespace trailscope::server {
 
 class SectorStore {
  public:
+  static constexpr const char* kNoun = "sector set";  ///< in messages
   /// Opens (creating if needed) <root>/sectors and notes every complete set. A folder that fails to load
   /// is reported on stderr and skipped.
   explicit SectorStore(std::filesystem::path root);
 
   /// Every set's metadata, oldest first.
   std::vector<nlohmann::json> list() const;
-  /// {id ("s1", ...), name, created (ISO 8601 UTC), bytes, ...`figures` as put() was given them}.
+  /// {id ("s1", ...), name, created (ISO 8601 UTC), bytes, owner, ...`figures` as put() was given them}.
   /// Throws not_found("sectors").
   nlohmann::json meta(const std::string& id) const;
   /// The stored GeoJSON text, byte for byte the upload. Throws not_found("sectors").
   std::string geojson(const std::string& id) const;
   /// Stores `geojson` (already validated) under the next id with `figures` (what the parser found: the
-  /// number of sectors, their names...) in its metadata, named `name` (the id when empty). Throws
+  /// number of sectors, their names...) in its metadata, named `name` (the id when empty) and owned by
+  /// `owner` (the owner name of its creator). Throws
   /// Error(conflict, "sectors") at limits::kMaxStoredSectorSets, Error(internal) when it cannot be written.
   /// Returns the metadata.
-  nlohmann::json put(const std::string& name, const std::string& geojson, nlohmann::json figures);
+  nlohmann::json put(const std::string& name, const std::string& geojson, nlohmann::json figures,
+                     const std::string& owner = "");
   /// Throws not_found("sectors").
   void remove(const std::string& id);
 

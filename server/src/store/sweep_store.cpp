@@ -11,7 +11,8 @@ namespace trailscope::server {
 namespace fs = std::filesystem;
 using namespace column_io;
 
-SweepStore::SweepStore(fs::path root) : root_(std::move(root)) {
+SweepStore::SweepStore(fs::path root)
+    : root_(std::move(root)), sweeps_('s', "sweep", root_ / "sweeps" / kIdCounterFile) {
   std::error_code ec;
   fs::create_directories(root_ / "sweeps", ec);
   if (ec) throw io_error(root_ / "sweeps", "create");
@@ -43,7 +44,7 @@ void SweepStore::save_locked(const nlohmann::json& record) const {
 }
 
 std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, nlohmann::json frames,
-                               std::size_t total) {
+                               std::size_t total, const std::string& owner) {
   std::lock_guard lock(mu_);
   const std::string id = sweeps_.next_id();
   nlohmann::json record = {{"id", id},
@@ -55,7 +56,8 @@ std::string SweepStore::create(nlohmann::json spec, nlohmann::json videos, nlohm
                            {"state", "running"},
                            {"done", false},
                            {"job", nullptr},
-                           {"created", utc_now_iso()}};
+                           {"created", utc_now_iso()},
+                           {"owner", owner}};
   save_locked(record);
   sweeps_.add(id, std::move(record));
   return id;

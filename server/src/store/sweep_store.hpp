@@ -22,8 +22,9 @@ class SweepStore {
 
   /// A new sweep: {id ("s1", ...), spec, videos, frames ({first_frame, frame_count}: the range of each video
   /// tracked, frame_count 0 = to the end), total (runs to make), runs: [], state: "running", done: false,
-  /// job, created}. Returns its id.
-  std::string create(nlohmann::json spec, nlohmann::json videos, nlohmann::json frames, std::size_t total);
+  /// job, created, owner (the owner name of its creator)}. Returns its id.
+  std::string create(nlohmann::json spec, nlohmann::json videos, nlohmann::json frames, std::size_t total,
+                     const std::string& owner = "");
   /// Sets the job that makes the sweep's runs.
   void set_job(const std::string& id, const std::string& job);
   /// Appends a stored run's id.
@@ -40,7 +41,7 @@ class SweepStore {
 
   std::filesystem::path root_;
   mutable std::mutex mu_;
-  ItemIndex sweeps_{'s', "sweep"};  ///< id → record
+  ItemIndex sweeps_;  ///< id → record
 };
 
 }  // namespace trailscope::server

@@ -42,6 +42,16 @@ Error rename_upload(const Error& e, const fs::path& file) {
   return Error(e.kind(), e.param(), msg);
 }
 
+/// Bytes of the regular files under `dir` (a staging folder: a few files).
+std::uint64_t folder_bytes(const fs::path& dir) {
+  std::uint64_t total = 0;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec))
+    if (it->is_regular_file(ec)) total += it->file_size(ec);
+  return total;
+}
+
 void write_meta(const fs::path& dir, const nlohmann::json& meta) {
   nlohmann::json m = meta;
   m["magic"] = kMagic;
@@ -115,7 +125,8 @@ nlohmann::json VideoStore::publish(const std::string& id, const fs::path& tmp, n
   return meta;
 }
 
-nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& file, std::string name) {
+nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& file, std::string name,
+                                       const std::string& owner) {
   fs::path tmp;
   std::error_code ec;
   try {
@@ -142,6 +153,7 @@ nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& fi
     }
     meta["name"] = name.empty() ? id : std::move(name);
     meta["origin"] = "upload";
+    meta["owner"] = owner;
     return publish(id, tmp, std::move(meta));
   } catch (...) {
     fs::remove(file, ec);
@@ -152,19 +164,27 @@ nlohmann::json VideoStore::commit_pack(const std::string& id, const fs::path& fi
 }
 
 nlohmann::json VideoStore::commit_synthetic(const std::string& id, const tof::SynthOptions& options,
-                                            std::string name, const ProgressFn& progress) {
+                                            std::string name, const ProgressFn& progress,
+                                            const std::string& owner, const WriteCheck& check) {
   fs::path tmp;
   std::error_code ec;
   try {
     tmp = folders_.stage(id);
     tof::WriteOptions wo;
     wo.layout = tof::VideoLayout::pack;
-    tof::write_synthetic_video(options, tmp / kPackFile, wo, progress);
+    // The writer's temporary files lie inside the staging folder: its size is what has been written.
+    const ProgressFn report = [&](double fraction, std::string_view stage) {
+      if (progress) progress(fraction, stage);
+      if (check) check(folder_bytes(tmp));
+    };
+    tof::write_synthetic_video(options, tmp / kPackFile, wo, report);
+    if (check) check(folder_bytes(tmp));
     const tof::DepthVideoReader reader(tmp / kPackFile);
     nlohmann::json meta = tof::describe_video(reader);
     meta["depth_range_mm"] = depth_range_json(reader);
     meta["name"] = name.empty() ? id : std::move(name);
     meta["origin"] = "synthetic";
+    meta["owner"] = owner;
     return publish(id, tmp, std::move(meta));
   } catch (...) {
     fs::remove_all(tmp, ec);

@@ -6,6 +6,7 @@
 // more is refused (409) rather than deleting a user's upload to make room.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <string>
@@ -21,6 +22,10 @@ namespace trailscope::server {
 
 class VideoStore {
  public:
+  static constexpr const char* kNoun = "video";  ///< in messages
+  /// Told the bytes written so far while a video is being written (after each batch of frames); throws
+  /// to stop the write (a disk budget, jobs/disk_budget.hpp), which then leaves nothing behind.
+  using WriteCheck = std::function<void(std::uint64_t bytes_written)>;
   /// Opens (creating if needed) <root>/videos and notes every complete video (one with meta.json);
   /// leftovers of interrupted writes in <root>/tmp are removed. A folder that fails to load is reported
   /// on stderr and skipped.
@@ -30,7 +35,8 @@ class VideoStore {
   std::vector<nlohmann::json> list() const;
   /// The API's Video object: describe_video()'s fields (format, version, intrinsics, fps, frame_count,
   /// amplitude_scale, has_amplitude, has_truth, timestamps_defaulted, source) plus id, name, created
-  /// (ISO 8601 UTC), bytes (of the pack) and origin ("upload" or "synthetic"). Throws not_found("video").
+  /// (ISO 8601 UTC), bytes (of the pack), origin ("upload" or "synthetic") and owner (the owner name of
+  /// its creator). Throws not_found("video").
   nlohmann::json meta(const std::string& id) const;
   /// The pack file of a video (open a tof::DepthVideoReader on it). Throws not_found("video").
   std::filesystem::path pack_path(const std::string& id) const;
@@ -47,12 +53,15 @@ class VideoStore {
   /// temporary name replaced by "the upload") and decoding its first frame; anything that is not a pack
   /// (a bare PNG) is Error(unsupported_format, "body"). `file` is moved into the store (or removed when
   /// refused). The reservation is released on failure. Returns meta().
-  nlohmann::json commit_pack(const std::string& id, const std::filesystem::path& file, std::string name);
-  /// Renders a synthetic video (tof::write_synthetic_video) under the reserved `id`. Progress and
-  /// cancellation as write_synthetic_video (a throw from `progress` leaves nothing behind). The reservation
-  /// is released on failure. Returns meta().
+  nlohmann::json commit_pack(const std::string& id, const std::filesystem::path& file, std::string name,
+                             const std::string& owner = "");
+  /// Renders a synthetic video (tof::write_synthetic_video) under the reserved `id`, owned by `owner`.
+  /// Progress and cancellation as write_synthetic_video (a throw from `progress` leaves nothing behind);
+  /// `check` is told the bytes written after each progress report, and a throw from it stops the write the
+  /// same way. The reservation is released on failure. Returns meta().
   nlohmann::json commit_synthetic(const std::string& id, const tof::SynthOptions& options, std::string name,
-                                  const ProgressFn& progress = {});
+                                  const ProgressFn& progress = {}, const std::string& owner = "",
+                                  const WriteCheck& check = {});
   /// Throws not_found("video").
   void remove(const std::string& id);
   std::size_t size() const;
