@@ -45,6 +45,7 @@ Error rename_upload(const Error& e, const fs::path& file) {
 void write_meta(const fs::path& dir, const nlohmann::json& meta) {
   nlohmann::json m = meta;
   m["magic"] = kMagic;
+  failpoint("store.write.before_manifest");
   const fs::path p = dir / kMetaFile;
   std::ofstream out(p, std::ios::trunc);
   out << json_text(m);
