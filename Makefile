@@ -13,7 +13,8 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config \
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo \
   libboost1.81-dev libboost-json1.81-dev libboost-url1.81-dev nlohmann-json3-dev \
   libprotobuf-dev protobuf-compiler libsqlite3-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  libspdlog-dev libcli11-dev libzstd-dev libtbb-dev zlib1g-dev libpugixml-dev curl
+  libspdlog-dev libcli11-dev libzstd-dev libtbb-dev zlib1g-dev libpugixml-dev curl \
+  libsodium-dev
 # Needed by `make test` (browser test, loopback test: python3 reads its JSON) and `make bench` only.
 APT_TEST_PACKAGES := chromium wrk python3
 APT_BENCH_PACKAGES := clickhouse-server clickhouse-client

@@ -112,4 +112,26 @@ inline constexpr std::size_t kMaxStoredSectorSets = 1000;
 /// limits::kMaxSeparationEvents events, so this bounds what finished jobs hold.
 inline constexpr std::size_t kMaxCongestionResults = 8;
 
+// --- access control (auth/: tokens, sessions, sign-in) -----------------------------------------------
+/// Tokens the server stores in <data-dir>/tokens.json; one more is refused (409) until one is revoked.
+/// Bounds the file every start (and every change by the CLI) rereads.
+inline constexpr std::size_t kMaxTokens = 1000;
+/// Longest token name (bytes): the owner name resources record.
+inline constexpr std::size_t kMaxTokenNameBytes = 64;
+/// Verified tokens kept in memory (keyed BLAKE2b of the token text → who it is), so that Argon2id (tens of
+/// milliseconds and 64 MiB by design) runs once per token, not once per request. The oldest is dropped
+/// beyond this.
+inline constexpr std::size_t kMaxCachedTokens = 1024;
+/// Failed token checks one address may cause per minute; beyond this its token checks are refused with
+/// 429 (Retry-After: the rest of the minute) without running Argon2id, so invalid tokens cannot be used
+/// to burn CPU or guess secrets.
+inline constexpr int kMaxFailedAuthPerMinute = 20;
+/// Addresses whose failed checks are counted at once (the oldest window is forgotten beyond this).
+inline constexpr std::size_t kMaxTrackedAuthAddresses = 10000;
+/// Browser sessions (the trailscope_session cookie) kept in memory, and how long one lasts (seconds).
+inline constexpr std::size_t kMaxSessions = 10000;
+inline constexpr int kSessionSeconds = 86400;
+/// How long the one-time sign-in code that `trailscope serve` prints stays valid (seconds).
+inline constexpr int kLoginCodeSeconds = 3600;
+
 }  // namespace trailscope::limits

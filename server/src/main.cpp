@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   trailscope::cli::add_track(app);
   trailscope::cli::add_compare(app);
   trailscope::cli::add_congestion(app);
+  trailscope::cli::add_token(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

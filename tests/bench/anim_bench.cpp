@@ -180,9 +180,12 @@ int main(int argc, char** argv) {
     // 2. Scrubs through the router, in process.
     srv::App app(std::make_shared<MemoryStore>(ds), {}, {}, ts::limits::kTileCacheBytes);
     srv::Router router = srv::make_router(app);
+    // Access control is on: a reader's token, verified once and then found in the cache of verified tokens.
+    const std::string token = app.access->tokens().create("bench", srv::Role::reader).token;
     const auto fetch = [&](double start) {
       srv::Request r;
       r.method = "GET", r.path = "/api/v1/datasets/bench/animation";
+      r.headers["authorization"] = "Bearer " + token;
       r.query = {{"t", ts::format_double(start)},
                  {"duration", std::to_string(static_cast<long long>(duration))}};
       const srv::Response res = router.handle(r);

@@ -278,6 +278,13 @@ say "6. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"
 run_log "$BIN" ingest "$SO6" --data-dir "$DATA_DIR" --name europe --quiet
 run_log "$BIN" demo --data-dir "$DATA_DIR" --flights "$FLIGHTS" --name demo
+# Access control is on: an admin token for the clients below. http_bench and anim_bench read
+# TRAILSCOPE_TOKEN; curl and wrk send it as a header.
+TRAILSCOPE_TOKEN=$("$BIN" token create --data-dir "$DATA_DIR" --name bench --role admin --json |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["token"])')
+export TRAILSCOPE_TOKEN
+AUTH="Authorization: Bearer $TRAILSCOPE_TOKEN"
+curl() { command curl -H "$AUTH" "$@"; }
 record "$BIN" serve --data-dir "$DATA_DIR" --port "$PORT" --web-root web/dist
 sed -i '$ s/$/ \&  # stopped by PID at the end/' "$CMDS"
 T0=$(date +%s%N)
@@ -335,12 +342,12 @@ wrk_json() {  # label, then wrk's output on stdin → one JSON line
 if command -v wrk >/dev/null; then
   curl -fsS -o /dev/null "$BASE$TILE"
   ETAG=$(curl -fsS -D - -o /dev/null "$BASE$TILE" | sed -n 's/^[Ee][Tt][Aa][Gg]: *//p' | tr -d '\r')
-  record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE$TILE"
-  wrk -t2 -c50 -d2s "$BASE$TILE" >>"$LOG" 2>&1  # warm-up
-  wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" | wrk_json tile_cached_200 >>"$RESULTS"
+  record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "Authorization: Bearer tsk_..." "$BASE$TILE"
+  wrk -t2 -c50 -d2s -H "$AUTH" "$BASE$TILE" >>"$LOG" 2>&1  # warm-up
+  wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "$AUTH" "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" | wrk_json tile_cached_200 >>"$RESULTS"
   if [ -n "$ETAG" ]; then
-    record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" "$BASE$TILE"
-    wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" |
+    record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" -H "Authorization: Bearer tsk_..." "$BASE$TILE"
+    wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency -H "If-None-Match: $ETAG" -H "$AUTH" "$BASE$TILE" 2>>"$LOG" | tee -a "$LOG" |
       wrk_json tile_cached_304 >>"$RESULTS"
   fi
   record wrk -t2 -c50 -d"${WRK_SECONDS}s" --latency "$BASE/api/v1/health"

@@ -351,4 +351,38 @@ await test('screenshot', async () => {
   await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard.png') });
 });
 
+await test('a fresh browser signs in with the one-time URL; the URL works once; a token signs in too', async () => {
+  const url = process.env.LOGIN_URL ?? '';
+  assert(/\?login=[0-9a-f]{64}$/.test(url), `run.sh passes the printed sign-in URL (got '${url}')`);
+  const fresh = await browser.newContext({ signIn: false, viewport: { width: 1200, height: 800 } });
+  const a = await fresh.newPage();
+  a.setDefaultTimeout(TIMEOUT);
+  await a.goto(url, { waitUntil: 'domcontentloaded' });
+  await a.waitForFunction(() => document.querySelector('[data-testid="session-who"]')?.textContent === 'local · admin');
+  assert(!a.url().includes('login='), `the code left the address bar (${a.url()})`);
+  await a.waitForSelector(`${sel('dataset-select')} option[value="${DATASET}"]`, { state: 'attached' });
+  assertEqual(await a.locator(sel('signin-panel')).count(), 0, 'no sign-in panel once signed in');
+  // The same URL in another browser: the code is spent, so the sign-in panel says so; a token then works.
+  const other = await browser.newContext({ signIn: false, viewport: { width: 1200, height: 800 } });
+  const b = await other.newPage();
+  b.setDefaultTimeout(TIMEOUT);
+  await b.goto(url, { waitUntil: 'domcontentloaded' });
+  await b.waitForSelector(sel('signin-panel'));
+  const reason = await b.textContent(sel('signin-reason'));
+  assert(/sign-in link did not work|needs signing in/.test(reason ?? ''), `the panel says why: ${reason}`);
+  assertEqual(await b.textContent(sel('session-who')), 'Not signed in', 'not signed in');
+  await b.fill(sel('signin-token'), 'not a token');
+  await b.click(sel('signin-submit'));
+  await b.waitForSelector(`${sel('signin-error')}:not([hidden])`);
+  await b.fill(sel('signin-token'), process.env.TRAILSCOPE_TOKEN ?? '');
+  await Promise.all([b.waitForEvent('load'), b.click(sel('signin-submit'))]);
+  await b.waitForFunction(() => document.querySelector('[data-testid="session-who"]')?.textContent === 'e2e · admin');
+  // Signing out ends it: the panel opens again on the next request that needs a token.
+  await Promise.all([b.waitForEvent('load'), b.click(sel('sign-out'))]);
+  await b.waitForFunction(() => document.querySelector('[data-testid="session-who"]')?.textContent === 'Not signed in');
+  await b.waitForSelector(sel('signin-panel'));
+  await fresh.close();
+  await other.close();
+});
+
 await finish(browser);

@@ -15,6 +15,37 @@ export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 export const ARTIFACTS = path.join(path.dirname(fileURLToPath(import.meta.url)), 'artifacts');
 /** Every page's default timeout (ms). */
 export const TIMEOUT = 30_000;
+/**
+ * The server's admin token (run.sh makes it with `trailscope token create` before `serve`): access control
+ * is on. Node's own requests to the server carry it (fetch, below); every browser context signs in with it
+ * (launchBrowser), as a user pasting it into the sign-in panel would, and holds the session cookie.
+ */
+export const TOKEN = process.env.TRAILSCOPE_TOKEN ?? '';
+if (TOKEN) {
+  const plainFetch = globalThis.fetch;
+  globalThis.fetch = (input, init = {}) => {
+    const url = typeof input === 'string' ? input : input instanceof URL ? input.href : input.url;
+    if (!url.startsWith(BASE_URL)) return plainFetch(input, init);
+    const headers = new Headers(init.headers ?? (input instanceof Request ? input.headers : undefined));
+    if (!headers.has('authorization')) headers.set('authorization', `Bearer ${TOKEN}`);
+    return plainFetch(input, { ...init, headers });
+  };
+}
+
+/** Signs `context` in with TOKEN: POST /api/v1/session, and its cookie into the context. */
+async function signIn(context) {
+  if (!TOKEN) return;
+  const res = await fetch(`${BASE_URL}/api/v1/session`, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ token: TOKEN }),
+  });
+  const cookie = /trailscope_session=([0-9a-f]+)/.exec(res.headers.get('set-cookie') ?? '');
+  if (res.status !== 200 || !cookie) throw new Error(`sign-in with the test token failed: ${res.status}`);
+  await context.addCookies([
+    { name: 'trailscope_session', value: cookie[1], url: BASE_URL, httpOnly: true, sameSite: 'Strict' },
+  ]);
+}
 
 const results = [];
 let stop = false;
@@ -61,15 +92,24 @@ export const sel = (id) => `[data-testid="${id}"]`;
 
 /**
  * Makes the artifacts folder, then launches headless Chromium at `executablePath` with WebGL through
- * SwiftShader (never --use-gl=swiftshader).
+ * SwiftShader (never --use-gl=swiftshader); its new contexts are signed in with TOKEN unless
+ * `browser.newContext({ signIn: false, ... })`.
  */
 export async function launchBrowser(executablePath = CHROMIUM) {
   await mkdir(ARTIFACTS, { recursive: true });
-  return chromium.launch({
+  const browser = await chromium.launch({
     executablePath,
     headless: true,
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
+  // Every context the tests open is signed in (TOKEN), unless it asks not to be ({ signIn: false }).
+  const newContext = browser.newContext.bind(browser);
+  browser.newContext = async ({ signIn: wanted = true, ...options } = {}) => {
+    const context = await newContext(options);
+    if (wanted) await signIn(context);
+    return context;
+  };
+  return browser;
 }
 
 /** Records the page's console errors and uncaught exceptions in `errors`, each line starting with `prefix`. */

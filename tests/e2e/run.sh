@@ -61,6 +61,11 @@ start_server() {
   local port pid i
   port="$(node -e 'const s=require("net").createServer().listen(0,"127.0.0.1",()=>{console.log(s.address().port);s.close()})')"
   SERVER_LOG="$TMP/server-$name.log"
+  # Access control is on: an admin token for the tests (harness.mjs signs the browser in with it).
+  TRAILSCOPE_TOKEN="$("$BIN" token create --data-dir "$data" --name e2e --role admin --json |
+    node -e 'let s="";process.stdin.on("data",(d)=>s+=d).on("end",()=>console.log(JSON.parse(s).token))')" ||
+    die "token create failed"
+  export TRAILSCOPE_TOKEN
   "$BIN" serve --data-dir "$data" --port "$port" --host 127.0.0.1 --web-root web/dist "$@" >"$SERVER_LOG" 2>&1 &
   pid=$!
   SERVER_PIDS+=("$pid")
@@ -71,6 +76,8 @@ start_server() {
     [ "$i" = 300 ] && { tail -n 20 "$SERVER_LOG" >&2; die "server ($name) not healthy after 30 s"; }
     sleep 0.1
   done
+  # The one-time sign-in URL it printed (dashboard.test.mjs signs a browser in with it).
+  LOGIN_URL="$(grep -oE 'http://[^ ]+/\?login=[0-9a-f]+' "$SERVER_LOG" | head -1)"
   echo "run.sh: $name server up at $BASE_URL (pid $pid)"
 }
 
@@ -94,7 +101,7 @@ if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || [ "$O
     die "ingest failed"
   }
   start_server flights "$TMP/data"
-  [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || run_test dashboard.test.mjs DATASET=europe
+  [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || run_test dashboard.test.mjs DATASET=europe LOGIN_URL="$LOGIN_URL"
   [ "$ONLY" = dashboard ] || [ "$ONLY" = congestion ] || run_test animation.test.mjs DATASET=europe
   [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || run_test congestion.test.mjs DATASET=europe
   if [ "$ONLY" != congestion ]; then

@@ -109,6 +109,7 @@ for flag in --sectors --bbox --alt-min --alt-max --step --duration --method --se
 done
 
 # The API's answer to the same request is the CLI's: a real server over the same data folder.
+use_token "$TMP/data"
 "$BIN" serve --data-dir "$TMP/data" --port 0 --host 127.0.0.1 --web-root /nonexistent > "$TMP/server.log" 2>&1 &
 SERVER_PID=$!
 for _ in $(seq 1 100); do

@@ -2,7 +2,9 @@
 // showed: the first and last states, whether progress never went back, the stages, and the summary.
 // Usage: node --experimental-websocket congestion_ws.mjs BASE_URL BODY_JSON
 const [base, body] = process.argv.slice(2);
-const ws = new WebSocket(base.replace('http', 'ws') + '/api/v1/ws');
+// Access control is on: the admin token the test script made (tests/support/cli_checks.sh use_token).
+const auth = process.env.TRAILSCOPE_TOKEN ? { Authorization: `Bearer ${process.env.TRAILSCOPE_TOKEN}` } : {};
+const ws = new WebSocket(base.replace('http', 'ws') + '/api/v1/ws', { headers: auth });
 const events = [];
 let job = null;
 const timer = setTimeout(() => { console.log(JSON.stringify({ error: 'timeout', events })); process.exit(1); }, 120000);
@@ -35,7 +37,7 @@ ws.onmessage = (m) => {
   events.push(msg.job);
   if (job && msg.job.id === job && ['done', 'failed', 'cancelled'].includes(msg.job.state)) finish();
 };
-const res = await fetch(`${base}/api/v1/congestion`, { method: 'POST', body, headers: { 'Content-Type': 'application/json' } });
+const res = await fetch(`${base}/api/v1/congestion`, { method: 'POST', body, headers: { 'Content-Type': 'application/json', ...auth } });
 if (res.status !== 202) { console.log(JSON.stringify({ error: `status ${res.status}`, body: await res.text() })); process.exit(1); }
 job = (await res.json()).job.id;
 // The job may have ended before the answer of the POST arrived.

@@ -6,6 +6,7 @@ BIN=$(readlink -f "$1")
 SHARED=$(readlink -f "$2")
 SO6="$SHARED/data/flights/traffic_europe_20180101_m3.so6.gz"
 TMP=$(mktemp -d)
+source "$(dirname "${BASH_SOURCE[0]}")/../support/cli_checks.sh"  # use_token, curl with the token
 PASS=0 FAIL=0
 SERVER_PID=
 cleanup() { [ -n "$SERVER_PID" ] && kill -9 "$SERVER_PID" 2>/dev/null; rm -rf "$TMP"; }
@@ -37,6 +38,7 @@ wait_job() {
   echo timeout
 }
 
+use_token "$TMP/data"
 start
 check "health" ok "$(curl -s "$URL/api/v1/health" | json 'd["status"]')"
 

@@ -45,6 +45,47 @@ TEST(OpenApi, ListsEveryRouteOfTheRouter) {
   EXPECT_EQ(documented, routed);
 }
 
+// Every operation says the least role it needs (x-role), the same as the route table; the operations
+// anyone may call say `security: []`, and only they.
+TEST(OpenApi, NamesEveryRoutesRole) {
+  std::map<std::string, std::string> documented;
+  std::set<std::string> open;
+  std::string path, op;
+  const std::regex path_re(R"(^  (/[^:]*):\s*$)"), method_re(R"(^    (get|post|put|delete|patch):)"),
+      role_re(R"(^      x-role: (\w+)\s*$)"), open_re(R"(^      security: \[\]\s*$)");
+  for (const auto& l : openapi_lines()) {
+    std::smatch m;
+    if (std::regex_match(l, m, path_re)) {
+      path = m[1], op.clear();
+    } else if (std::regex_search(l, m, method_re)) {
+      std::string method = m[1];
+      for (char& c : method) c = static_cast<char>(std::toupper(c));
+      op = method + " " + path;
+    } else if (!op.empty() && std::regex_match(l, m, role_re)) {
+      EXPECT_FALSE(documented.count(op)) << op << " has two x-role";
+      documented[op] = m[1];
+    } else if (!op.empty() && std::regex_match(l, open_re)) {
+      open.insert(op);
+    }
+  }
+  test::TempDir tmp;
+  auto store = std::make_shared<EmbeddedStore>(tmp.path());
+  App app(store, store->upload_dir(), {}, 1 << 20);
+  const Router router = make_router(app);
+  const std::map<Role, std::string> names = {
+      {Role::anyone, "anyone"}, {Role::reader, "reader"}, {Role::writer, "writer"}, {Role::admin, "admin"}};
+  std::size_t anyone = 0;
+  for (const auto& r : router.routes()) {
+    const std::string op = r.method + " " + r.pattern;
+    ASSERT_TRUE(documented.count(op)) << op << " has no x-role";
+    EXPECT_EQ(documented[op], names.at(r.role)) << op;
+    EXPECT_EQ(open.count(op), r.role == Role::anyone ? 1u : 0u) << op << ": security: [] iff x-role anyone";
+    anyone += r.role == Role::anyone;
+  }
+  EXPECT_EQ(documented.size(), router.routes().size());
+  EXPECT_EQ(open.size(), anyone);
+}
+
 TEST(OpenApi, QuotesEveryLimit) {
   std::map<std::string, std::string> quoted;
   const std::regex re(R"(^  (k[A-Za-z0-9]+): (\S+))");
@@ -142,6 +183,14 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kBundleStreamWorkers", double(L::kBundleStreamWorkers)},
       {"kBundleStreamMinIntervalMs", double(L::kBundleStreamMinIntervalMs)},
       {"kBundleStreamSettleUpdates", double(L::kBundleStreamSettleUpdates)},
+      {"kMaxTokens", double(L::kMaxTokens)},
+      {"kMaxTokenNameBytes", double(L::kMaxTokenNameBytes)},
+      {"kMaxCachedTokens", double(L::kMaxCachedTokens)},
+      {"kMaxFailedAuthPerMinute", double(L::kMaxFailedAuthPerMinute)},
+      {"kMaxTrackedAuthAddresses", double(L::kMaxTrackedAuthAddresses)},
+      {"kMaxSessions", double(L::kMaxSessions)},
+      {"kSessionSeconds", double(L::kSessionSeconds)},
+      {"kLoginCodeSeconds", double(L::kLoginCodeSeconds)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

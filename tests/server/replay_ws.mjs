@@ -1,7 +1,9 @@
 // One viewer of a live replay over the real server: hello, the first frame, a seek, a bad op; prints what
 // it saw as JSON. Usage: node --experimental-websocket replay_ws.mjs BASE_URL REPLAY_ID
 const [base, id] = process.argv.slice(2);
-const ws = new WebSocket(`${base.replace('http', 'ws')}/api/v1/replays/${id}/ws`);
+// Access control is on: the admin token the test script made (tests/support/cli_checks.sh use_token).
+const auth = process.env.TRAILSCOPE_TOKEN ? { Authorization: `Bearer ${process.env.TRAILSCOPE_TOKEN}` } : {};
+const ws = new WebSocket(`${base.replace('http', 'ws')}/api/v1/replays/${id}/ws`, { headers: auth });
 ws.binaryType = 'arraybuffer';
 const out = { frames: [] };
 const timer = setTimeout(() => { console.log(JSON.stringify({ error: 'timeout', ...out })); process.exit(1); }, 30000);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "auth/token_store.hpp"
 #include "routes/app.hpp"
 #include "store/embedded_store.hpp"
 #include "test_support.hpp"
@@ -15,8 +16,31 @@
 
 namespace trailscope::server::test_routes {
 
+/// The app's router as an admin calls it: a request that names no Authorization is sent with
+/// `token` (access control is on in every route test; tests/server/access_test.cpp tests it).
+struct AdminRouter {
+  Router router;
+  std::string token;
+  AdminRouter& operator=(Router r) {
+    router = std::move(r);
+    return *this;
+  }
+  Response handle(Request r) const {
+    r.headers.try_emplace("authorization", "Bearer " + token);
+    return router.handle(std::move(r));
+  }
+  BodyRule body_rule(const std::string& method, const std::string& path) const {
+    return router.body_rule(method, path);
+  }
+  const std::vector<Router::Route>& routes() const { return router.routes(); }
+};
+
 class RouteFixture : public ::testing::Test {
  protected:
+  /// An admin token in tmp/store/tokens.json, which every App the tests open over tmp/store reads.
+  RouteFixture() {
+    router.token = TokenStore(tmp.path() / "store" / "tokens.json").create("test-admin", Role::admin).token;
+  }
   /// Stores `ds` and builds the app and its router.
   void open(std::shared_ptr<Dataset> ds) {
     store = std::make_shared<EmbeddedStore>(tmp.path() / "store");
@@ -106,7 +130,7 @@ class RouteFixture : public ::testing::Test {
   trailscope::test::TempDir tmp;
   std::shared_ptr<EmbeddedStore> store;
   std::unique_ptr<App> app;
-  Router router;
+  AdminRouter router;
 };
 
 }  // namespace trailscope::server::test_routes

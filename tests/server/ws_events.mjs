@@ -3,7 +3,9 @@
 import { readFileSync } from 'node:fs';
 
 const [base, file, name] = process.argv.slice(2);
-const ws = new WebSocket(base.replace('http', 'ws') + '/api/v1/ws');
+// Access control is on: the admin token the test script made (tests/support/cli_checks.sh use_token).
+const auth = process.env.TRAILSCOPE_TOKEN ? { Authorization: `Bearer ${process.env.TRAILSCOPE_TOKEN}` } : {};
+const ws = new WebSocket(base.replace('http', 'ws') + '/api/v1/ws', { headers: auth });
 const events = [];
 const timer = setTimeout(() => { console.log(JSON.stringify({ error: 'timeout', events })); process.exit(1); }, 60000);
 await new Promise((resolve, reject) => {
@@ -29,5 +31,5 @@ ws.onmessage = (m) => {
     process.exit(0);
   }
 };
-const res = await fetch(`${base}/api/v1/datasets?name=${name}`, { method: 'POST', body: readFileSync(file) });
+const res = await fetch(`${base}/api/v1/datasets?name=${name}`, { method: 'POST', body: readFileSync(file), headers: auth });
 if (res.status !== 202) { console.log(JSON.stringify({ error: `status ${res.status}` })); process.exit(1); }

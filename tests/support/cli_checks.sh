@@ -16,3 +16,15 @@ finish() {
   echo "$PASS passed, $FAIL failed"
   [ "$FAIL" -eq 0 ]
 }
+
+# Access control is on in every server: `use_token DATA_DIR` creates an admin token in a data folder (before
+# `serve` starts over it) with `$BIN token create` and exports it as TRAILSCOPE_TOKEN; then every `curl` of the
+# script sends it (the function below), and so do the node helpers (they read TRAILSCOPE_TOKEN).
+use_token() {
+  TRAILSCOPE_TOKEN=$("$BIN" token create --data-dir "$1" --name test-admin --role admin --json | json 'd["token"]')
+  export TRAILSCOPE_TOKEN
+}
+curl() {
+  if [ -n "${TRAILSCOPE_TOKEN:-}" ]; then command curl -H "Authorization: Bearer $TRAILSCOPE_TOKEN" "$@"
+  else command curl "$@"; fi
+}

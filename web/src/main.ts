@@ -4,6 +4,7 @@ import { byId, mount } from './lib/dom';
 import { dashboardOf } from './route';
 import { TrackerView } from './tracker/trackerView';
 import { RunsView } from './runs/runsView';
+import { SessionUi } from './session/sessionUi';
 
 // Three dashboards behind one top bar: the flight map dashboard (flights/, any hash), the tracker
 // (tracker/, #tracker…) and the runs dashboard (runs/, #runs…). Each is built the first time it is shown.
@@ -43,5 +44,10 @@ function showFatal(err: unknown) {
   banner.hidden = false;
 }
 
-window.addEventListener('hashchange', route);
-route();
+// Sign-in first (the URL's one-time code becomes a session cookie), so that the dashboards' first requests
+// carry it.
+const session = new SessionUi(byId('session'));
+void session.start().finally(() => {
+  window.addEventListener('hashchange', route);
+  route();
+});

@@ -21,7 +21,7 @@ void add_serve(CLI::App& app) {
     std::string data_dir = default_data_dir(), host = "127.0.0.1", web_root = "web/dist", demo_source;
     unsigned short port = 8080;
     unsigned threads = 2;
-    bool demo = false;
+    bool demo = false, public_reads = false;
     std::size_t demo_flights = 20000;
     std::string backend;
   };
@@ -34,6 +34,8 @@ void add_serve(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--backend", o->backend, "compute backend: cpu | opencl | auto");
   cmd->add_flag("--demo", o->demo, "create the generated demo dataset 'demo' first if it is absent");
+  cmd->add_flag("--public-reads", o->public_reads,
+                "serve GET and HEAD of every read-only route without a token (writes still need one)");
   cmd->add_option("--demo-flights", o->demo_flights, "flights in the demo dataset")->capture_default_str();
   cmd->add_option("--demo-source", o->demo_source,
                   "folder with vega-datasets' airports.csv and flights-airport.csv (default: "
@@ -61,6 +63,12 @@ void add_serve(CLI::App& app) {
     app.jobs.add_listener([&hub](const JobState& s) {
       hub.broadcast(json_text({{"type", "job"}, {"job", s.to_json()}}));
     });
+    app.access->set_public_reads(o->public_reads);
+    // Access control is on from the first start: with no token yet, the first admin's is made and shown once.
+    if (app.access->tokens().empty()) {
+      const IssuedToken first = app.access->tokens().create("admin", Role::admin);
+      std::cout << "first admin token (shown once, store it): " << first.token << std::endl;
+    }
     const Router router = make_router(app);
     ServerOptions so{o->host, o->port, o->threads};
     if (o->demo) create_demo_videos(*app.videos);
@@ -69,6 +77,11 @@ void add_serve(CLI::App& app) {
         [&](unsigned short port) {
           std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size()
                     << " dataset(s) at http://" << o->host << ":" << port << "/" << std::endl;
+          // As Jupyter does: a URL that signs the local user in once (an admin session in this browser).
+          const std::string host = o->host == "0.0.0.0" || o->host == "::" ? "127.0.0.1" : o->host;
+          std::cout << "sign in (once, within " << limits::kLoginCodeSeconds / 60 << " min): http://"
+                    << (host.find(':') != std::string::npos ? "[" + host + "]" : host) << ":" << port
+                    << "/?login=" << app.access->issue_login_code() << std::endl;
         },
         app.replays.get(), app.bundle_streams.get());
     std::cout << "stopped" << std::endl;

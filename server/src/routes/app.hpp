@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "auth/access.hpp"
 #include "jobs/job_manager.hpp"
 #include "limits.hpp"
 #include "routes/router.hpp"
@@ -53,6 +54,9 @@ struct App {
   /// the results of the last finished congestion jobs (in memory).
   std::shared_ptr<SectorStore> sectors;
   std::shared_ptr<CongestionResults> congestion = std::make_shared<CongestionResults>();
+  /// The access check, sessions and sign-in codes over the tokens of <data_root>/tokens.json (in memory
+  /// only without a data_root); make_router installs its check. Always present.
+  std::shared_ptr<Access> access;
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});

@@ -78,4 +78,14 @@ Response get_congestion(App& app, const Request& req, const PathParams& p);
 
 Response static_file(App& app, const Request& req, const PathParams& p);
 
+/// Browser sessions (auth/access.hpp): who is signed in; sign in with {"login": one-time code} or
+/// {"token": "tsk_..."} (sets the trailscope_session cookie); sign out. API tokens, for admins: list,
+/// create (the token text is in the answer, once), revoke.
+Response get_session(App& app, const Request& req, const PathParams& p);
+Response create_session(App& app, const Request& req, const PathParams& p);
+Response delete_session(App& app, const Request& req, const PathParams& p);
+Response list_tokens(App& app, const Request& req, const PathParams& p);
+Response create_token(App& app, const Request& req, const PathParams& p);
+Response revoke_token(App& app, const Request& req, const PathParams& p);
+
 }  // namespace trailscope::server::handlers

@@ -19,6 +19,8 @@ App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::fi
     sectors = std::make_shared<SectorStore>(data_root);
   }
   bundle_streams = std::make_shared<BundleStreams>(store);
+  access = std::make_shared<Access>(
+      std::make_shared<TokenStore>(data_root.empty() ? data_root : data_root / "tokens.json"));
 }
 
 Router make_router(App& app) {
@@ -138,6 +140,14 @@ Router make_router(App& app) {
   // Bundles that follow a client's clock (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/datasets/{dataset}/bundles/stream", WebSocketKind::bundle_stream,
                   bind(bundle_stream_check));
+  // Access control (auth/access.hpp): signing in and out needs no token; the tokens are the admins'.
+  r.add("GET", "/api/v1/session", bind(get_session)).needs(Role::anyone);            // 200
+  r.add("POST", "/api/v1/session", bind(create_session)).needs(Role::anyone);        // 200 400 401 429
+  r.add("DELETE", "/api/v1/session", bind(delete_session)).needs(Role::anyone);      // 204
+  r.add("GET", "/api/v1/tokens", bind(list_tokens)).needs(Role::admin);              // 200
+  r.add("POST", "/api/v1/tokens", bind(create_token)).needs(Role::admin);            // 201 400 409
+  r.add("DELETE", "/api/v1/tokens/{token}", bind(revoke_token)).needs(Role::admin);  // 204 404
+  r.set_access(access_check(app.access));
   r.set_fallback(bind(static_file));
   return r;
 }

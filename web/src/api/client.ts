@@ -1,4 +1,5 @@
-// Typed client for the TrailScope REST API (same origin as the page).
+// Typed client for the TrailScope REST API (same origin as the page: requests carry the session cookie).
+import { notifyUnauthorized } from './session';
 
 import type {
   ApiErrorBody,
@@ -62,6 +63,7 @@ export async function fetchOk(path: string, init: RequestInit = {}, ok = (res: R
     if (isAbort(e)) throw e;
     throw new ApiError(0, { error: 'network', detail: 'The TrailScope server cannot be reached.' });
   }
+  if (res.status === 401) notifyUnauthorized();
   if (!ok(res)) throw await errorFromResponse(res);
   return res;
 }
@@ -160,6 +162,7 @@ export function uploadDataset(
       if (e.lengthComputable && opts.onProgress) opts.onProgress(e.loaded / e.total);
     };
     xhr.onload = () => {
+      if (xhr.status === 401) notifyUnauthorized();
       let body: unknown = null;
       try {
         body = JSON.parse(xhr.responseText);

@@ -13,6 +13,13 @@ import type { TrafficFilter } from './types';
 const BASE = process.env.TRAILSCOPE_URL ?? 'http://127.0.0.1:8080';
 const DATASET = process.env.DATASET ?? 'europe';
 const api = (p: string) => `${BASE}/api/v1/datasets/${DATASET}${p}`;
+// Access control is on: run.sh's admin token (TRAILSCOPE_TOKEN) on every request.
+const TOKEN = process.env.TRAILSCOPE_TOKEN ?? '';
+const fetch = (url: string, init: RequestInit = {}) => {
+  const headers = new Headers(init.headers);
+  if (TOKEN) headers.set('Authorization', `Bearer ${TOKEN}`);
+  return globalThis.fetch(url, { ...init, headers });
+};
 
 interface Pos { id: number; lat: number; lon: number; alt_m: number | null; callsign: string; icao24: string }
 
