@@ -7,8 +7,9 @@
 //
 // Prints JSON lines (bench_util.hpp's emit): one "load_kind" record per request kind (count, errors,
 // refusals, latency percentiles), one "load_ws" record per WebSocket kind, one "load" summary record.
-// Bounded: every request has a 30 s deadline, the run stops at --seconds (the clients finish the request
-// in flight, then close), at most --connections + 2 HTTP connections and --ws WebSockets are ever open.
+// Bounded: every request has a 30 s deadline (an upload 90 s), the run stops at --seconds (the clients finish
+// the request in flight, then close), at most --connections + 2 HTTP connections and --ws WebSockets are ever
+// open.
 //
 //   load_bench --host 127.0.0.1 --port P --pid SERVER_PID [--token T] [--connections 100] [--seconds 60]
 //              [--ws 10] [--upload-every-s 5] [--dataset demo] [--seed 1]
@@ -124,7 +125,8 @@ class Connection {
   /// Sends one request; returns the status (0 on a transport error, which is recorded as such) and the
   /// body in `body`. `ms` is the time from sending to the whole response.
   asio::awaitable<int> send(http::verb verb, const std::string& target, std::string body_in,
-                            const std::string& content_type, std::string& body, double& ms) {
+                            const std::string& content_type, std::string& body, double& ms,
+                            int timeout_s = 30) {
     try {
       if (!open_) {
         stream_.expires_after(std::chrono::seconds(10));
@@ -141,7 +143,7 @@ class Connection {
       req.prepare_payload();
       req.keep_alive(true);
       const auto t0 = Clock::now();
-      stream_.expires_after(std::chrono::seconds(30));
+      stream_.expires_after(std::chrono::seconds(timeout_s));
       co_await http::async_write(stream_, req, use_awaitable);
       http::response_parser<http::string_body> parser;
       parser.body_limit(256u << 20);
@@ -280,6 +282,9 @@ std::string make_upload(const Run& run, int aircraft, int samples, int salt) {
   return csv.str();
 }
 
+/// An upload's deadline: longer than the other requests', so that a slow 202 is measured, not cut off.
+constexpr int kUploadTimeoutS = 90;
+
 /// Uploads a small dataset every --upload-every-s, times the 202, waits for its ingest job, deletes it.
 asio::awaitable<void> upload_client(Run& run) {
   auto ex = co_await asio::this_coro::executor;
@@ -296,7 +301,7 @@ asio::awaitable<void> upload_client(Run& run) {
     std::string csv = make_upload(run, 40, 80, n);  // 3,200 rows, ~200 KB
     double ms = 0;
     const int status = co_await conn.send(http::verb::post, "/api/v1/datasets?name=" + name, std::move(csv),
-                                          "text/csv", body, ms);
+                                          "text/csv", body, ms, kUploadTimeoutS);
     if (status == 0) {
       ++run.kinds["upload"].transport;
     } else {
@@ -587,6 +592,8 @@ int main(int argc, char** argv) {
               {"refused", refused},
               {"uploads", run.upload_202_ms.size()},
               {"uploads_ingested", run.uploads_ingested},
+              {"upload_timeout_s", kUploadTimeoutS},
+              {"upload_transport_errors", run.kinds["upload"].transport},
               {"upload_202", percentiles(run.upload_202_ms)},
               {"latency", percentiles(all_ms)},
               {"health", percentiles(run.kinds["health"].ms)},

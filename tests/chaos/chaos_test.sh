@@ -103,6 +103,12 @@ BUNDLE_BODY='{"source": {"graph": "g1"}, "params": {"size": 128, "iterations": 4
 SYNTH_BODY='{"scenario": "standard", "frames": 6, "seed": 3}'
 
 # ---- the items every case must find unchanged -----------------------------------------------------
+# Access control: an admin's token for every request and a reader's, made with the CLI before the first
+# start (so the server makes no first token of its own).
+TOKEN=$("$BIN" token create --data-dir "$DATA" --name chaos --role admin --json | json 'd["token"]')
+READER=$("$BIN" token create --data-dir "$DATA" --name reader --role reader --json | json 'd["token"] + " " + d["id"]')
+READER_ID=${READER#* } READER=${READER% *}
+AUTH=(-H "Authorization: Bearer $TOKEN")
 start
 check "baseline: dataset base" done "$(wait_job "$(c --data-binary @"$TMP/small.csv" "$URL/api/v1/datasets?name=base" | json 'd["job"]["id"]')")"
 check "baseline: graph g1" g1 "$(c --data-binary @"$TMP/graph.json" "$URL/api/v1/graphs?name=g" | json 'd["id"]')"
@@ -159,6 +165,13 @@ one_case() {
   start
   GONE=
   "$verify"
+  post_checks "$name" "$before"
+  stop
+  echo "     ($((SECONDS - t0)) s)"
+}
+# post_checks NAME SNAPSHOT: what every case checks on the restarted store.
+post_checks() {
+  local name=$1 before=$2
   # Every file that was there before is there, byte-identical, but those of a deleted item.
   local lost
   lost=$(comm -23 <(echo "$before") <(snapshot) | awk '{print $2}' |
@@ -167,8 +180,6 @@ one_case() {
   check "$name: tmp/ cleared" "" "$(ls -A "$DATA/tmp" 2>/dev/null | tr '\n' ' ')"
   check "$name: uploads/ cleared" "" "$(ls -A "$DATA/uploads" 2>/dev/null | tr '\n' ' ')"
   check "$name: no *.tmp.* files" "" "$(find "$DATA" -name '*.tmp.*' | tr '\n' ' ')"
-  stop
-  echo "     ($((SECONDS - t0)) s)"
 }
 # New files (not in the baseline) under $1: what an interrupted creation left.
 new_files() { comm -13 <(echo "$BASE_SNAPSHOT") <(snapshot) | awk '{print $2}' | grep "^\./$1" | tr '\n' ' '; }
@@ -394,8 +405,45 @@ sweep_interrupted() {
 kill_case "sweep record before rename" "store.replace.before_rename#1" sweep_job sweep_absent
 kill_case "sweep mid-job" "job.progress:sweep" sweep_job sweep_interrupted
 
-# The bundle delete last: the cases above bundle from g1 and list b1.
 kill_case "bundle delete after rename" store.remove.after_rename del_bundle bundle_deleted
+
+# ---- tokens.json: written by `trailscope token create|revoke` (atomically, under a file lock) ---------
+# token_case NAME FAILPOINT VERIFY TOKEN-ARGS...: the CLI killed at FAILPOINT, then the server started on
+# the store and VERIFY run.
+token_case() { in_parallel one_token_case "$@"; }
+one_token_case() {
+  local name=$1 point=$2 verify=$3 before
+  shift 3
+  before=$(snapshot)
+  TRAILSCOPE_FAILPOINT=$point "$BIN" token "$@" --data-dir "$DATA" > "$RUN/cli.out" 2> "$RUN/cli.err"
+  check "$name: CLI killed by SIGKILL" 137 "$?"
+  check "$name: at $point" 1 "$(grep -c "^failpoint $point: SIGKILL" "$RUN/cli.err")"
+  start
+  GONE=
+  "$verify"
+  post_checks "$name" "$before"
+  check "$name: tokens.json readable by its owner only" 600 "$(stat -c %a "$DATA/tokens.json")"
+  check "$name: the admin's token still works" 200 "$(code "$URL/api/v1/datasets")"
+  stop
+}
+token_names() { "$BIN" token list --data-dir "$DATA" --json | json "' '.join(sorted(t['name'] for t in d))"; }
+tokens_unchanged() {
+  check "  tokens listed" "chaos reader" "$(token_names)"
+  check "  the reader's token works" 200 "$(curl -s -o /dev/null -w '%{http_code}' -H "Authorization: Bearer $READER" "$URL/api/v1/datasets")"
+}
+token_created() {
+  check "  tokens listed" "chaos crash reader" "$(token_names)"
+  GONE=./tokens.json
+}
+token_revoked() {
+  check "  tokens listed" chaos "$(token_names)"
+  check "  the reader's token refused" 401 "$(curl -s -o /dev/null -w '%{http_code}' -H "Authorization: Bearer $READER" "$URL/api/v1/datasets")"
+  GONE=./tokens.json
+}
+token_case "token create before rename" store.replace.before_rename tokens_unchanged create --name crash --role writer
+token_case "token create after rename" store.replace.after_rename token_created create --name crash --role writer
+token_case "token revoke before rename" store.replace.before_rename tokens_unchanged revoke "$READER_ID"
+token_case "token revoke after rename" store.replace.after_rename token_revoked revoke "$READER_ID"
 
 wait
 for i in $(seq 1 "$CASES"); do cat "$TMP/case$i.out"; done

@@ -107,6 +107,7 @@ inline void write_file_atomic(const std::filesystem::path& dest, const std::stri
     std::filesystem::remove(tmp, ec);
     throw io_error(dest, "rename into");
   }
+  failpoint("store.replace.after_rename");
 }
 
 }  // namespace trailscope::server::column_io
