@@ -101,13 +101,13 @@ inline void write_file_atomic(const std::filesystem::path& dest, const std::stri
     }
   }
   fsync_path(tmp);
-  failpoint("store.replace.before_rename");
+  failpoint("store.replace.before_rename", dest.extension().native());
   std::filesystem::rename(tmp, dest, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
     throw io_error(dest, "rename into");
   }
-  failpoint("store.replace.after_rename");
+  failpoint("store.replace.after_rename", dest.extension().native());
 }
 
 }  // namespace trailscope::server::column_io

@@ -14,8 +14,10 @@
 //   store.publish.after_rename    renamed into place, the parent folder not yet flushed, nobody told
 //   store.remove.after_rename     a deleted item moved out to tmp/, not yet deleted
 //   store.replace.before_rename   an atomically replaced file (a row, a sweep record, a token list) is
-//                                 written beside its destination as *.tmp.*, not yet renamed over it
-//   store.replace.after_rename    renamed over its destination; what the caller does next is not done
+//                                 written beside its destination as *.tmp.*, not yet renamed over it;
+//                                 `store.replace.before_rename:.json` only for a destination *.json
+//   store.replace.after_rename    renamed over its destination, what the caller does next not done (`:.json`
+//                                 as above)
 //   store.row.before_row          a run's or MOT file's payload is written, its row (written last) is not
 //   store.row.remove.after_row    a run's or MOT file's row is removed, its payload not yet
 //   job.progress                  a job reported progress (mid-parse of an ingest, mid-synth, mid-bundle);
