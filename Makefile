@@ -68,6 +68,13 @@ test: deps-test build web
 bench: deps-bench build web
 	BUILD_DIR=$(BUILD_DIR) bash tests/bench/run_benchmarks.sh
 
+# Bounded load test: 100 connections of mixed requests, uploads and 10 WebSockets for 60 s against a server
+# with the demo dataset on loopback; records in tests/bench/load_results.jsonl, the Load section of
+# BENCHMARKS.md rewritten (tests/bench/load_test.sh).
+.PHONY: load
+load: deps-test build web-deps
+	BUILD_DIR=$(BUILD_DIR) LOAD_DEMO_SOURCE=$(CURDIR)/web/node_modules/vega-datasets/data bash tests/bench/load_test.sh
+
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
 

@@ -1160,6 +1160,115 @@ int main(int argc, char** argv) {
       if (!obs.str().empty()) md << "## Observations (computed from this run)\n\n" << obs.str() << "\n";
     }
     md << body.str();
+    // ---- Load: mixed traffic (`make load`: tests/bench/load_test.sh, load_bench.cpp) -----------------
+    // Rendered from the records of the last load run (tests/bench/load_results.jsonl, committed;
+    // --load-results overrides the path), a separate run from the rest of this report, shown when present;
+    // `make load` writes only this section (--load-section-only).
+    const std::string load_path =
+        a.has("load-results") ? a.get("load-results") : "tests/bench/load_results.jsonl";
+    if (std::ifstream(load_path).good()) {
+      std::vector<json> lr;
+      {
+        std::ifstream in(load_path);
+        for (std::string line; std::getline(in, line);)
+          if (!line.empty() && line[0] == '{') lr.push_back(json::parse(line));
+      }
+      const auto pick = [&](const std::string& bench, const std::string& kind = "") -> const json* {
+        for (const json& r : lr)
+          if (r.value("bench", "") == bench && (kind.empty() || r.value("kind", "") == kind)) return &r;
+        return nullptr;
+      };
+      const json* s = pick("load");
+      const json* mt = pick("load_meta");
+      std::ostringstream sec;
+      sec << "## Load: mixed traffic over loopback (`make load`)\n\n";
+      if (!s) {
+        sec << "No load records in `" << load_path << "`: run `make load`.\n\n";
+      } else {
+        const auto sub = [](const json* r, const std::string& obj, const std::string& key) {
+          return r && r->contains(obj) && (*r)[obj].contains(key) && (*r)[obj][key].is_number()
+                     ? (*r)[obj][key].get<double>()
+                     : NAN;
+        };
+        const auto msn = [](double v) { return std::isfinite(v) ? ms(v) + " ms" : std::string("–"); };
+        const double p99 = sub(s, "latency", "p99_ms"), up99 = sub(s, "upload_202", "p99_ms");
+        const double rss0 = dbl(s, "rss_before_mib"), rss1 = dbl(s, "rss_max_mib"),
+                     rss2 = dbl(s, "rss_after_mib");
+        const long errs = s->value("errors", 0L);
+        sec << "`tests/bench/load_test.sh` (`make load`) on " << str(mt, "date") << " (commit "
+            << str(mt, "commit") << ", " << str(mt, "cpu") << ", " << str(mt, "cores")
+            << " cores, load average at the end "
+            << (mt && mt->contains("load_avg") ? (*mt)["load_avg"][0].get<std::string>() : "?")
+            << "; a separate run from the sections above): the server started with `serve --demo` ("
+            << grouped(s, "dataset_flights") << " flights, " << grouped(s, "dataset_points")
+            << " points) on 127.0.0.1, then `load_bench` for " << str(s, "seconds")
+            << " s: " << str(s, "connections")
+            << " keep-alive HTTP connections, each sending one request after the other, chosen at random: a "
+               "density tile from a warm set of 12 (35 %), a cold tile (15 %: z 3-7 over the data's extent "
+               "with a new time window, so a new cache key), a summary (25 %: a window of 10 min to 6 h, "
+               "half of them with a bbox) or a page of the flight list (25 %: the same windows); one "
+               "connection uploads a 3,200-row CSV (~200 KB) every "
+            << str(s, "upload_every_s")
+            << " s, times its 202, waits for its ingest job and deletes it; "
+               "one polls health every 100 ms; "
+            << str(s, "websockets")
+            << " WebSockets hold the job-event stream or a bundle stream whose clock moves 60 s every "
+               "500 ms (at most 4 bundle streams: `kMaxBundleStreams`). Access token sent: "
+            << (s->value("token", false) ? "yes (an admin token)" : "no (the server had no access control)")
+            << ". Errors = answers other than 2xx/3xx that are not refusals, plus transport errors; "
+               "refusals (429 rate limit, 503 admission control) are counted apart.\n\n"
+            << "| target | measured | |\n|---|---|---|\n"
+            << "| 0 errors | " << errs << " (HTTP " << str(s, "http_errors") << ", transport "
+            << str(s, "transport_errors") << ", WebSocket " << str(s, "ws_errors") << "); "
+            << str(s, "refused") << " refused | " << met(errs == 0) << " |\n"
+            << "| p99 < 1 s (all requests but health) | " << msn(p99) << " (p50 "
+            << msn(sub(s, "latency", "p50_ms")) << ") | " << met(std::isfinite(p99) && p99 < 1000) << " |\n"
+            << "| upload's 202 < 1 s (p99 of " << str(s, "uploads") << ") | " << msn(up99) << " (p50 "
+            << msn(sub(s, "upload_202", "p50_ms")) << "; " << str(s, "uploads_ingested") << " ingested; "
+            << str(s, "upload_transport_errors") << " without an answer within " << str(s, "upload_timeout_s")
+            << " s) | " << met(std::isfinite(up99) && up99 < 1000) << " |\n"
+            << "| health p99 < 50 ms | " << msn(sub(s, "health", "p99_ms")) << " (p50 "
+            << msn(sub(s, "health", "p50_ms")) << ") | "
+            << met(std::isfinite(sub(s, "health", "p99_ms")) && sub(s, "health", "p99_ms") < 50) << " |\n"
+            << "| bounded RSS | before " << num(rss0, 0) << " MiB, peak " << num(rss1, 0) << " MiB, after "
+            << num(rss2, 0) << " MiB (5 s after the load) | peak +" << num(rss1 - rss0, 0) << " MiB, after +"
+            << num(rss2 - rss0, 0) << " MiB |\n\n"
+            << "Throughput: **" << num(dbl(s, "requests_per_s"), 1) << " requests/s** ("
+            << grouped(s, "requests") << " requests).\n\n"
+            << "| kind | requests/s | answered | errors | refused | transport errors | p50 | p90 | p99 | max "
+               "| "
+               "other statuses |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const json& r : lr) {
+          if (r.value("bench", "") != "load_kind") continue;
+          std::string statuses;
+          const json st = r.value("statuses", json::object());
+          for (const auto& [k, v] : st.items())
+            statuses += (statuses.empty() ? "" : ", ") + k + ": " + v.dump();
+          sec << "| " << str(&r, "kind") << " | " << num(dbl(&r, "requests_per_s"), 1) << " | "
+              << grouped(&r, "ok") << " | " << str(&r, "errors") << " | " << str(&r, "refused") << " | "
+              << str(&r, "transport_errors") << " | " << ms(&r, "p50_ms") << " ms | " << ms(&r, "p90_ms")
+              << " ms | " << ms(&r, "p99_ms") << " ms | " << ms(&r, "max_ms") << " ms | "
+              << (statuses.empty() ? "–" : statuses) << " |\n";
+        }
+        sec << "\n| WebSocket | connected | refused | errors | messages | bytes | handshake p50 | first "
+               "message p50 "
+               "|\n|---|---|---|---|---|---|---|---|\n";
+        for (const json& r : lr) {
+          if (r.value("bench", "") != "load_ws") continue;
+          sec << "| " << str(&r, "kind") << " | " << str(&r, "connected") << " | " << str(&r, "refused")
+              << " | " << str(&r, "errors") << " | " << grouped(&r, "messages") << " | "
+              << grouped(&r, "bytes") << " | " << msn(sub(&r, "handshake", "p50_ms")) << " | "
+              << msn(sub(&r, "first_message", "p50_ms")) << " |\n";
+        }
+        sec << "\n";
+      }
+      if (a.has("load-section-only")) {
+        std::ofstream out(a.get("out"));
+        out << sec.str();
+        return out ? 0 : 1;
+      }
+      md << sec.str();
+    }
     md << "## Commands\n\nRun from the repository root, in this order, by `tests/bench/run_benchmarks.sh` "
           "(ClickHouse is started and stopped by `tests/bench/clickhouse_ctl.sh`):\n\n```sh\n"
        << commands << "```\n";

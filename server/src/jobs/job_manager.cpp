@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "errors/error_table.hpp"
+#include "store/failpoint.hpp"
 #include "trailscope/core/error.hpp"
 #include "limits.hpp"
 
@@ -160,6 +161,7 @@ void JobManager::worker_loop() {
     }
     notify(job->state);
     const ProgressFn progress = [&](double fraction, std::string_view stage) {
+      failpoint("job.progress", job->state.kind);
       JobState snapshot;
       {
         std::lock_guard lock(mu_);

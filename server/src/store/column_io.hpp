@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/failpoint.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/json_text.hpp"
 
@@ -42,6 +43,7 @@ void write_column(const std::filesystem::path& dir, const char* name, const std:
   out.close();
   if (!out) throw io_error(p, "write");
   fsync_path(p);
+  failpoint("store.write.column");
 }
 
 /// Reads dir/name.bin into `v`, which must hold exactly `n` values (a size mismatch is a damaged file).
@@ -59,6 +61,7 @@ void read_column(const std::filesystem::path& dir, const char* name, std::vector
 
 /// Writes the manifest last, then flushes it and its folder: a folder without a manifest is incomplete.
 inline void write_manifest(const std::filesystem::path& dir, const nlohmann::json& manifest) {
+  failpoint("store.write.before_manifest");
   const std::filesystem::path mp = dir / "manifest.json";
   std::ofstream out(mp, std::ios::trunc);
   out << json_text(manifest);
@@ -98,11 +101,13 @@ inline void write_file_atomic(const std::filesystem::path& dest, const std::stri
     }
   }
   fsync_path(tmp);
+  failpoint("store.replace.before_rename", dest.extension().native());
   std::filesystem::rename(tmp, dest, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
     throw io_error(dest, "rename into");
   }
+  failpoint("store.replace.after_rename", dest.extension().native());
 }
 
 }  // namespace trailscope::server::column_io

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "store/column_io.hpp"
+#include "store/failpoint.hpp"
 #include "trailscope/core/error.hpp"
 
 namespace trailscope::server {
@@ -82,13 +83,16 @@ fs::path stage_folder(const fs::path& tmp_dir, const std::string& name) {
   std::error_code ec;
   fs::create_directories(tmp, ec);
   if (ec) throw io_error(tmp, "create");
+  failpoint("store.stage");
   return tmp;
 }
 
 void publish_folder(const fs::path& staged, const fs::path& final_dir) {
   std::error_code ec;
+  failpoint("store.publish.before_rename");
   fs::rename(staged, final_dir, ec);
   if (ec) throw io_error(final_dir, "rename into");
+  failpoint("store.publish.after_rename");
   fsync_path(final_dir.parent_path());
 }
 
@@ -96,6 +100,7 @@ void remove_folder(const fs::path& dir, const fs::path& gone) {
   std::error_code ec;
   fs::rename(dir, gone, ec);
   if (ec) throw io_error(dir, "remove");
+  failpoint("store.remove.after_rename");
   fs::remove_all(gone, ec);
 }
 

@@ -101,6 +101,7 @@ nlohmann::json RowStore::put(nlohmann::json row, const std::function<void(const 
   try {
     write_payload(payload);
     row["bytes"] = fs::file_size(payload);
+    failpoint("store.row.before_row");
     nlohmann::json on_disk = row;
     on_disk["magic"] = kind_.magic;
     write_file_atomic(dir_ / (id + ".json"), json_text(on_disk));  // the row last
@@ -121,6 +122,7 @@ void RowStore::remove(const std::string& id) {
   // The row first: without it the payload is an orphan, removed now or at the next start.
   fs::remove(dir_ / (id + ".json"), ec);
   if (ec) throw io_error(dir_ / (id + ".json"), "remove");
+  failpoint("store.row.remove.after_row");
   fs::remove(path_of(id), ec);
   index_.erase(id);
 }

@@ -55,6 +55,7 @@ std::uint64_t folder_bytes(const fs::path& dir) {
 void write_meta(const fs::path& dir, const nlohmann::json& meta) {
   nlohmann::json m = meta;
   m["magic"] = kMagic;
+  failpoint("store.write.before_manifest");
   const fs::path p = dir / kMetaFile;
   std::ofstream out(p, std::ios::trunc);
   out << json_text(m);
