@@ -135,9 +135,22 @@ bool verify_token_hash(const TokenRecord& record, std::string_view token) {
 TokenStore::TokenStore(fs::path file, SteadyClock clock) : file_(std::move(file)), clock_(std::move(clock)) {
   ensure_sodium();
   if (file_.empty()) return;
+  if (fs::exists(file_.parent_path())) {
+    FileLock file_lock(fs::path(file_.string() + ".lock"));
+    remove_leftovers();
+  }
   stamp_ = stamp();
   tokens_ = read_file();
   last_check_ = now();
+}
+
+void TokenStore::remove_leftovers() const {
+  // Temporary files of a writer that was killed (none can be live: the caller holds the file lock). They
+  // hold token hashes, so they go at the next open, not only at the next write.
+  std::error_code ec;
+  const std::string leftover = file_.filename().string() + ".tmp.";
+  for (const auto& e : fs::directory_iterator(file_.parent_path(), ec))
+    if (e.path().filename().string().starts_with(leftover)) fs::remove(e.path(), ec);
 }
 
 std::chrono::steady_clock::time_point TokenStore::now() const {
@@ -173,9 +186,8 @@ void TokenStore::write_file(const std::vector<TokenRecord>& tokens) const {
     j["hash"] = t.hash;
     list.push_back(std::move(j));
   }
-  column_io::write_file_atomic(file_, json_text({{"version", 1}, {"tokens", list}}) + "\n");
-  std::error_code ec;
-  fs::permissions(file_, fs::perms::owner_read | fs::perms::owner_write, ec);
+  column_io::write_file_atomic(file_, json_text({{"version", 1}, {"tokens", list}}) + "\n",
+                               /*owner_only=*/true);
   column_io::fsync_path(file_.parent_path());
 }
 
@@ -190,10 +202,7 @@ auto TokenStore::update(F change) {
   std::error_code ec;
   fs::create_directories(file_.parent_path(), ec);
   FileLock file_lock(fs::path(file_.string() + ".lock"));
-  // Temporary files of a writer that crashed (none can be live: writers hold the lock).
-  const std::string leftover = file_.filename().string() + ".tmp.";
-  for (const auto& e : fs::directory_iterator(file_.parent_path(), ec))
-    if (e.path().filename().string().starts_with(leftover)) fs::remove(e.path(), ec);
+  remove_leftovers();
   std::vector<TokenRecord> tokens = read_file();  // what other processes wrote counts
   auto result = change(tokens);
   write_file(tokens);

@@ -108,6 +108,8 @@ class TokenStore {
   Stamp stamp() const;
   std::vector<TokenRecord> read_file() const;  // throws
   void write_file(const std::vector<TokenRecord>& tokens) const;
+  /// Removes the temporary files a killed writer left beside the file; the caller holds the file lock.
+  void remove_leftovers() const;
   /// Runs `change` on the tokens as the file holds them now, under the file lock, and writes the result.
   template <typename F>
   auto update(F change);

@@ -86,13 +86,25 @@ inline std::string random_suffix() {
 
 /// Publishes `bytes` as `dest` atomically: written to dest.tmp.<random> beside it, flushed, renamed over
 /// `dest`. A crash leaves the old file or the new one, never half of either; the temporary file of a
-/// failed write is removed (and a store's start-up removes any "*.tmp.*" a crash left behind).
-inline void write_file_atomic(const std::filesystem::path& dest, const std::string& bytes) {
+/// failed write is removed (and a store's start-up removes any "*.tmp.*" a crash left behind). With
+/// `owner_only` the file is made readable by its owner alone before any byte is written (secrets' hashes).
+inline void write_file_atomic(const std::filesystem::path& dest, const std::string& bytes,
+                              bool owner_only = false) {
   const std::filesystem::path tmp =
       dest.parent_path() / (dest.filename().string() + ".tmp." + random_suffix());
   std::error_code ec;
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    // Before any byte is written, so that neither the temporary file nor (after the rename) the
+    // destination is ever readable by others, whenever the process dies.
+    if (owner_only) {
+      std::filesystem::permissions(
+          tmp, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write, ec);
+      if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw io_error(tmp, "restrict the permissions of");
+      }
+    }
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.close();
     if (!out) {
