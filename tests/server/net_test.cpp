@@ -301,11 +301,16 @@ TEST_F(NetTest, MalformedFramingIs400) {
   };
   const std::vector<Case> cases = {
       {"bad Content-Length", head + "Content-Length: 12x\r\n\r\n{}", "malformed request: bad Content-Length"},
-      {"two Content-Lengths", head + "Content-Length: 2\r\nContent-Length: 2\r\n\r\n{}",
+      {"two equal Content-Lengths", head + "Content-Length: 2\r\nContent-Length: 2\r\n\r\n{}",
+       "malformed request: more than one Content-Length"},
+      {"two different Content-Lengths", head + "Content-Length: 2\r\nContent-Length: 3\r\n\r\n{}",
        "malformed request: bad Content-Length"},
       {"chunked and Content-Length", head + "Content-Length: 2\r\nTransfer-Encoding: chunked\r\n\r\n{}",
-       "malformed request: bad Content-Length"},
-      {"bare LF", "GET /ping HTTP/1.1\nHost: " + host() + "\n\n", "malformed request: bad line ending"},
+       "malformed request: bad Transfer-Encoding"},
+      {"bare LF", "GET /ping HTTP/1.1\nHost: " + host() + "\n\n",
+       "malformed request: a line ends in a bare LF, not CRLF"},
+      {"bare LF in a field", "GET /ping HTTP/1.1\r\nHost: " + host() + "\nX: y\r\n\r\n",
+       "malformed request: a line ends in a bare LF, not CRLF"},
   };
   for (const auto& c : cases) {
     const Reply r = exchange(c.raw);

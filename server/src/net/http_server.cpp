@@ -188,15 +188,30 @@ Response retry_later(Error::Kind kind, const std::string& detail, int seconds) {
   return error_response(RetryLater(kind, "", detail, seconds));
 }
 
-// The answer to a header Beast could not parse; nothing when the client just went away.
-std::optional<Response> header_refusal(const beast::error_code& ec, const NetLimits& lim) {
+// The answer to a header Beast could not parse (`raw`: the bytes read so far); nothing when the client just
+// went away. Beast reports a bare LF and a version other than 1.x both as a bad version: the raw request
+// line tells them apart.
+std::optional<Response> header_refusal(const beast::error_code& ec, std::string_view raw,
+                                       const NetLimits& lim) {
   if (ec == http::error::header_limit)
     return error_response(431, "request_header_fields_too_large", "header",
                           "the request header exceeds the limit of " + size_text(lim.max_header_bytes));
-  if (ec.category() == http::make_error_code(http::error::bad_method).category() &&
-      ec != http::error::end_of_stream && ec != http::error::partial_message)
-    return error_response(400, "invalid_argument", "header", "malformed request: " + ec.message());
-  return std::nullopt;
+  if (ec.category() != http::make_error_code(http::error::bad_method).category() ||
+      ec == http::error::end_of_stream || ec == http::error::partial_message)
+    return std::nullopt;
+  for (auto at = raw.find('\n'); at != std::string_view::npos; at = raw.find('\n', at + 1))
+    if (at == 0 || raw[at - 1] != '\r')
+      return error_response(400, "invalid_argument", "header",
+                            "malformed request: a line ends in a bare LF, not CRLF");
+  const auto lf = raw.find('\n');
+  if (ec == http::error::bad_version && lf != std::string_view::npos && lf >= 10) {
+    const std::string_view v = raw.substr(lf - 9, 8);  // "HTTP/x.y" before the CRLF
+    if (v.substr(0, 5) == "HTTP/" && std::isdigit(static_cast<unsigned char>(v[5])) && v[6] == '.' &&
+        std::isdigit(static_cast<unsigned char>(v[7])))
+      return error_response(505, "http_version_not_supported", "version",
+                            std::string(v) + " is not supported (HTTP/1.0 and HTTP/1.1 are)");
+  }
+  return error_response(400, "invalid_argument", "header", "malformed request: " + ec.message());
 }
 
 // Sends a last response and closes the connection. When the request's body was left unread (`drain`), the
@@ -365,7 +380,10 @@ net::awaitable<void> session(beast::tcp_stream stream, Server& S, ConnectionCoun
       break;
     }
     if (ec) {
-      if (auto res = header_refusal(ec, S.lim)) co_await answer_and_close(stream, buffer, *res, 11, true);
+      const auto data = buffer.data();
+      const std::string_view raw(static_cast<const char*>(data.data()), data.size());
+      if (auto res = header_refusal(ec, raw, S.lim))
+        co_await answer_and_close(stream, buffer, *res, 11, true);
       break;  // closed, or not HTTP
     }
     const auto& h = head.get();
@@ -389,6 +407,11 @@ net::awaitable<void> session(beast::tcp_stream stream, Server& S, ConnectionCoun
             11, has_body);
         break;
       }
+      // Beast takes two equal Content-Lengths as one (RFC 9110 allows it); a request that sends two is
+      // refused all the same, as a proxy in front may have read the other one.
+      if (h.count(http::field::content_length) > 1)
+        throw invalid_argument("header", "malformed request: more than one Content-Length");
+      if (h.count(http::field::host) > 1) throw invalid_argument("host", "more than one Host header");
       const std::string host(h[http::field::host]);
       S.policy.check_host(host, version == 11);
       if (const int wait = S.per_address.take(key))
