@@ -35,7 +35,8 @@ class NiceObserver : public tbb::task_scheduler_observer {
 
 }  // namespace
 
-ComputePool::ComputePool(unsigned workers, std::size_t max_queued, int nice) : max_queued_(max_queued) {
+ComputePool::ComputePool(unsigned workers, std::size_t max_queued, int nice)
+    : max_queued_(max_queued), idle_(std::max(1u, workers)) {
   for (unsigned i = 0; i < std::max(1u, workers); ++i) threads_.emplace_back([this, nice] { work(nice); });
 }
 
@@ -89,12 +90,11 @@ void ComputePool::work(int nice) {
     Item item;
     {
       std::unique_lock lock(mutex_);
-      ++idle_;
       wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
-      --idle_;
       if (stop_) return;
       item = std::move(queue_.front());
       queue_.pop_front();
+      --idle_;
       running_.push_back(item.token);
     }
     try {
@@ -104,6 +104,7 @@ void ComputePool::work(int nice) {
     }
     std::lock_guard lock(mutex_);
     running_.erase(std::find(running_.begin(), running_.end(), item.token));
+    ++idle_;
   }
 }
 

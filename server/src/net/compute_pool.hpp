@@ -52,7 +52,7 @@ class ComputePool {
   std::condition_variable wake_;
   std::deque<Item> queue_;
   std::vector<std::shared_ptr<CancelToken>> running_;
-  std::size_t idle_ = 0;  ///< threads waiting for a task
+  std::size_t idle_;  ///< threads not running a task (a queued task is theirs to take)
   std::uint64_t next_ = 1;
   bool stop_ = false;
   std::vector<std::thread> threads_;

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <optional>
 
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <iostream>
 #include <random>
@@ -562,7 +563,10 @@ net::awaitable<void> listen(tcp::acceptor& acceptor, Server& S) {
                                                  net::redirect_error(net::use_awaitable, ec));
     if (ec) {
       if (ec == net::error::operation_aborted) co_return;
-      continue;  // e.g. too many open files: keep serving the others
+      // E.g. too many open files: keep serving the others, after a pause rather than in a busy loop.
+      net::steady_timer pause(acceptor.get_executor(), std::chrono::milliseconds(50));
+      co_await pause.async_wait(net::redirect_error(net::use_awaitable, ec));
+      continue;
     }
     auto ex = socket.get_executor();
     const auto ep = socket.remote_endpoint(ec);
@@ -595,6 +599,13 @@ void run_http_server(const ServerOptions& opts, const Router& router, WsHub& hub
                 "cannot listen on " + opts.host + ":" + std::to_string(opts.port) + ": " + ec.message());
   const unsigned short port = acceptor.local_endpoint().port();
   const NetLimits& L = opts.limits;
+  // Room for the connection cap's sockets, their upload files and the store's files: the soft limit on open
+  // files is raised to the hard one (often 1024 and 4096 or more). When it stays below the cap, accept
+  // fails with EMFILE for a while rather than the cap refusing with 503.
+  if (rlimit fds{}; getrlimit(RLIMIT_NOFILE, &fds) == 0 && fds.rlim_cur < fds.rlim_max) {
+    fds.rlim_cur = fds.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &fds);
+  }
   // Declared after the io_context, so destroyed before it: the pool's threads post into it.
   Server server{router,
                 hub,
