@@ -350,7 +350,8 @@ TEST_F(NetTest, HostMustBeANameOfTheServer) {
   EXPECT_EQ(r.json(), error_body("forbidden", "host",
                                  "Host 'attacker.example:" + port +
                                      "' is not a name of this server (serve --server-name)"));
-  // Another port of a local name is another server.
+  // A local name without a port (clients that are not browsers) is served; another port is another server.
+  EXPECT_EQ(exchange("GET /ping HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").status, 200);
   EXPECT_EQ(exchange("GET /ping HTTP/1.1\r\nHost: localhost:1\r\n\r\n").status, 403);
 }
 

@@ -545,7 +545,8 @@ net::awaitable<void> session(beast::tcp_stream stream, Server& S, ConnectionCoun
   stream.socket().shutdown(tcp::socket::shutdown_send, ec);
 }
 
-// Answers a connection over a cap and closes it.
+// Answers a connection over a cap and closes it at once (no draining: a flood of refused connections must
+// not hold file descriptors).
 net::awaitable<void> refuse_connection(beast::tcp_stream stream, std::string why) {
   beast::flat_buffer buffer;
   co_await answer_and_close(stream, buffer,
@@ -553,7 +554,7 @@ net::awaitable<void> refuse_connection(beast::tcp_stream stream, std::string why
                                         why == "address" ? "too many open connections from this address"
                                                          : "too many open connections",
                                         limits::kRetryAfterSeconds),
-                            11, true);
+                            11, false);
 }
 
 net::awaitable<void> listen(tcp::acceptor& acceptor, Server& S) {

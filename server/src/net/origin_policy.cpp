@@ -49,7 +49,7 @@ OriginPolicy::OriginPolicy(std::string listen_host, unsigned short port,
     for (const std::string& n :
          {listen_host, std::string("localhost"), std::string("127.0.0.1"), std::string("[::1]")}) {
       names_.push_back(lower(n) + ":" + p);
-      if (port == 80) names_.push_back(lower(n));
+      bare_.push_back(lower(n));  // a Host without a port (non-browser clients; a browser names the port)
     }
   } else {
     for (const auto& n : server_names) names_.push_back(lower(n));
@@ -68,6 +68,7 @@ void OriginPolicy::check_host(const std::string& host_header, bool http11) const
   }
   const std::string host = lower(host_header);
   const auto [name, port] = split_host_port(host);
+  if (std::find(bare_.begin(), bare_.end(), host) != bare_.end()) return;
   for (const auto& n : names_) {
     if (n == host) return;
     if (split_host_port(n).second.empty() && n == name) return;  // a configured name without a port

@@ -12,10 +12,10 @@ class OriginPolicy {
  public:
   /// `listen_host`: the address the server listens on; `port`: its port. `server_names` (serve
   /// --server-name, "name" or "name:port"): the names the server answers to; empty: the listen address,
-  /// localhost, 127.0.0.1 and [::1] with `port`, and, on a wildcard listen address (0.0.0.0, ::), any IP
-  /// address with `port` (an IP literal never comes from DNS rebinding). A name without a port matches
-  /// every port. `allowed_origins` (serve --allow-origin, "scheme://host[:port]"): origins allowed besides
-  /// the server's own.
+  /// localhost, 127.0.0.1 and [::1] with `port` or without a port (another port is refused), and, on a
+  /// wildcard listen address (0.0.0.0, ::), any IP address with `port` (an IP literal never comes from DNS
+  /// rebinding). A name without a port matches every port. `allowed_origins` (serve --allow-origin,
+  /// "scheme://host[:port]"): origins allowed besides the server's own.
   OriginPolicy(std::string listen_host, unsigned short port, std::vector<std::string> server_names = {},
                std::vector<std::string> allowed_origins = {});
 
@@ -35,6 +35,7 @@ class OriginPolicy {
   bool wildcard_ = false;
   unsigned short port_;
   std::vector<std::string> names_;    ///< lower-case, "host" or "host:port"
+  std::vector<std::string> bare_;     ///< default names, matched by a Host without a port only
   std::vector<std::string> origins_;  ///< lower-case, no trailing slash
 };
 
