@@ -162,5 +162,32 @@ inline constexpr std::uint64_t kMaxImagePixels = 4096ull * 4096ull;
 inline constexpr std::uint64_t kMaxCompareReadFrames = 800'000;
 /// Rows (ground truth plus result) one POST /api/v1/metrics reads; MOT17's largest result has ~60,000.
 inline constexpr std::uint64_t kMaxMetricsRows = 2'000'000;
+// --- network admission (net/): compute pool, rate limits, connections, slow bodies -------------------
+/// Threads of the compute pool that runs the handlers of Lane::compute routes (net/compute_pool.hpp), niced
+/// so that the network threads keep answering while they work.
+inline constexpr unsigned kComputeWorkers = 4;
+/// Compute requests waiting for a worker; one more is refused with 503 and Retry-After.
+inline constexpr std::size_t kMaxQueuedComputeRequests = 256;
+/// A compute request that has not finished this many seconds after it was queued is cancelled (its
+/// CancelToken is set) and answered 503 with Retry-After.
+inline constexpr int kComputeDeadlineSeconds = 60;
+/// Retry-After (seconds) of a 503 from a full compute queue, a passed deadline or a connection cap.
+inline constexpr int kRetryAfterSeconds = 2;
+/// Token buckets: requests per second and burst, per client address (an IPv6 address counts by its /64)
+/// and per API token; one more is refused with 429 and Retry-After.
+inline constexpr double kRequestsPerSecondPerAddress = 500;
+inline constexpr double kRequestBurstPerAddress = 1000;
+inline constexpr double kRequestsPerSecondPerToken = 500;
+inline constexpr double kRequestBurstPerToken = 1000;
+/// Open connections (WebSocket connections of the job-events endpoint included) per client address and in
+/// all; a connection beyond either is answered 503 and closed.
+inline constexpr std::size_t kMaxConnectionsPerAddress = 128;
+inline constexpr std::size_t kMaxConnections = 4096;
+/// Slow bodies: after a grace period (seconds) a request body must have arrived at this average rate
+/// (bytes/s), else 408; a body without a byte for the grace period is 408 too.
+inline constexpr int kBodyRateGraceSeconds = 10;
+inline constexpr std::uint64_t kMinBodyBytesPerSecond = 4096;
+/// Largest request header (request line and fields, bytes); a larger one is refused with 431.
+inline constexpr std::size_t kMaxRequestHeaderBytes = 16u << 10;
 
 }  // namespace trailscope::limits

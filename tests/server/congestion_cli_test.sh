@@ -118,7 +118,7 @@ for _ in $(seq 1 100); do
   sleep 0.1
 done
 URL="http://127.0.0.1:$PORT"
-sid=$(curl -s --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=test" | json 'd["id"]')
+sid=$(curl -s -H 'Content-Type: application/geo+json' --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=test" | json 'd["id"]')
 check "api: sectors stored" s1 "$sid"
 body='{"dataset":"syn","query":{"t0":"2018-01-01T00:00:00Z","t1":"2018-01-01T00:30:00Z"},"volumes":{"sectors":"'"$sid"'"},"compute":["occupancy","entries","hotspots","complexity","separation"]}'
 ws=$(node --experimental-websocket "$HERE/congestion_ws.mjs" "$URL" "$body" 2>/dev/null)
@@ -140,7 +140,7 @@ check "api: oversized sector upload refused" 413 \
   "$(curl -s -o "$TMP/e.json" -w '%{http_code}' -H 'Content-Length: 20000000' --data-binary 'x' "$URL/api/v1/sectors")"
 check "api: oversized sector upload detail" "sector upload exceeds the limit of 16 MiB" "$(json 'd["detail"]' < "$TMP/e.json")"
 check "api: too many periods" "413 step" \
-  "$(curl -s -o "$TMP/e.json" -w '%{http_code}' -d '{"dataset":"syn","query":{"t0":0,"t1":172800},"volumes":{"grid":{}},"step":1}' "$URL/api/v1/congestion") $(json 'd["param"]' < "$TMP/e.json")"
+  "$(curl -s -o "$TMP/e.json" -w '%{http_code}' -H 'Content-Type: application/json' -d '{"dataset":"syn","query":{"t0":0,"t1":172800},"volumes":{"grid":{}},"step":1}' "$URL/api/v1/congestion") $(json 'd["param"]' < "$TMP/e.json")"
 kill -TERM "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=
 
 finish

@@ -201,6 +201,20 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxImagePixels", double(L::kMaxImagePixels)},
       {"kMaxCompareReadFrames", double(L::kMaxCompareReadFrames)},
       {"kMaxMetricsRows", double(L::kMaxMetricsRows)},
+      // The network layer's admission limits (net/).
+      {"kComputeWorkers", double(L::kComputeWorkers)},
+      {"kMaxQueuedComputeRequests", double(L::kMaxQueuedComputeRequests)},
+      {"kComputeDeadlineSeconds", double(L::kComputeDeadlineSeconds)},
+      {"kRetryAfterSeconds", double(L::kRetryAfterSeconds)},
+      {"kRequestsPerSecondPerAddress", L::kRequestsPerSecondPerAddress},
+      {"kRequestBurstPerAddress", L::kRequestBurstPerAddress},
+      {"kRequestsPerSecondPerToken", L::kRequestsPerSecondPerToken},
+      {"kRequestBurstPerToken", L::kRequestBurstPerToken},
+      {"kMaxConnectionsPerAddress", double(L::kMaxConnectionsPerAddress)},
+      {"kMaxConnections", double(L::kMaxConnections)},
+      {"kBodyRateGraceSeconds", double(L::kBodyRateGraceSeconds)},
+      {"kMinBodyBytesPerSecond", double(L::kMinBodyBytesPerSecond)},
+      {"kMaxRequestHeaderBytes", double(L::kMaxRequestHeaderBytes)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

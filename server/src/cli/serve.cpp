@@ -30,6 +30,16 @@ void add_serve(CLI::App& app) {
   cmd->add_option("--host", o->host, "address to listen on")->capture_default_str();
   cmd->add_option("--port", o->port, "port to listen on (0 = any free port)")->capture_default_str();
   cmd->add_option("--threads", o->threads, "I/O threads")->capture_default_str()->check(CLI::Range(1u, 64u));
+  // Browser-side safety (net/origin_policy.hpp): the names the server answers to, the origins allowed.
+  auto names = std::make_shared<std::vector<std::string>>(),
+       origins = std::make_shared<std::vector<std::string>>();
+  cmd->add_option(
+      "--server-name", *names,
+      "a name the server answers to (Host), 'name' or 'name:port'; repeatable (default: the listen "
+      "address, localhost, 127.0.0.1 and [::1] with the port)");
+  cmd->add_option("--allow-origin", *origins,
+                  "an origin (scheme://host[:port]) whose pages may send state-changing requests and open "
+                  "WebSockets besides the server's own; repeatable");
   cmd->add_option("--web-root", o->web_root, "folder of the built browser app (web/dist)")
       ->capture_default_str();
   cmd->add_option("--backend", o->backend, "compute backend: cpu | opencl | auto");
@@ -40,7 +50,7 @@ void add_serve(CLI::App& app) {
   cmd->add_option("--demo-source", o->demo_source,
                   "folder with vega-datasets' airports.csv and flights-airport.csv (default: "
                   "web/node_modules/vega-datasets/data)");
-  cmd->callback([o] {
+  cmd->callback([o, names, origins] {
     if (!o->backend.empty()) set_default_backend(parse_backend(o->backend, "--backend"));
     // Compile the kernels now rather than on the first tile (about 1 s with a cold PoCL cache), where
     // tiles can run on OpenCL: always when asked for, and under `auto` on a GPU.
@@ -70,7 +80,7 @@ void add_serve(CLI::App& app) {
       std::cout << "first admin token (shown once, store it): " << first.token << std::endl;
     }
     const Router router = make_router(app);
-    ServerOptions so{o->host, o->port, o->threads};
+    ServerOptions so{o->host, o->port, o->threads, *names, *origins};
     if (o->demo) create_demo_videos(*app.videos);
     run_http_server(
         so, router, hub, store->upload_dir(),

@@ -21,6 +21,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   ~WebSocketSession();
   /// Accepts the upgrade request and starts reading.
   void run(boost::beast::http::request<boost::beast::http::empty_body> req);
+  /// Keeps `h` (the connection's slot of the connection caps, net/rate_limit.hpp) as long as the session.
+  void hold(std::shared_ptr<void> h) { hold_ = std::move(h); }
   /// Queues a text message; thread-safe.
   void send(std::shared_ptr<const std::string> message);
 
@@ -34,6 +36,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   WsWriteQueue out_{ws_};
   WsHub& hub_;
   bool joined_ = false;
+  std::shared_ptr<void> hold_;
 };
 
 }  // namespace trailscope::server

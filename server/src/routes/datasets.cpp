@@ -36,7 +36,10 @@ Response delete_dataset(App& app, const Request& req, const PathParams& p) {
   return Response::no_content();
 }
 
-Response create_dataset(App& app, const Request& req, const PathParams&) {
+namespace {
+// The parameters of a dataset upload, checked (a taken name is 409): what the precheck runs on the header
+// and the handler again once the body is there.
+IngestRequest dataset_upload(App& app, const Request& req) {
   reject_unknown_params(req, {"name", "format"});
   auto it = req.query.find("name");
   if (it == req.query.end() || it->second.empty())
@@ -52,6 +55,16 @@ Response create_dataset(App& app, const Request& req, const PathParams&) {
     throw Error(Error::Kind::conflict, "name", "dataset '" + ing.name + "' already exists");
   ing.owner = req.principal.owner;
   app.jobs.check_quota(ing.owner);
+  return ing;
+}
+}  // namespace
+
+void create_dataset_check(App& app, const Request& req, const PathParams&) {
+  dataset_upload(app, req);
+}
+
+Response create_dataset(App& app, const Request& req, const PathParams&) {
+  IngestRequest ing = dataset_upload(app, req);
   ing.file = upload_file(req, app.upload_dir);
   const JobState job = submit_ingest(app.jobs, app.store, std::move(ing), app.disk);
   return Response::json_at(202, {{"job", job.to_json()}}, "/api/v1/jobs/" + job.id);

@@ -15,18 +15,36 @@ const std::string kTooLarge =
 
 }  // namespace
 
-Response create_graph(App& app, const Request& req, const PathParams&) {
-  reject_unknown_params(req, {"format", "name"});
-  GraphStore& graphs = need(app.graphs, "a graph store");
+namespace {
+// The query of a graph upload, checked: what the precheck runs on the header and the handler again.
+struct GraphUpload {
   std::optional<bundling::GraphFormat> format;
+  std::string name;
+};
+GraphUpload graph_upload(App& app, const Request& req) {
+  reject_unknown_params(req, {"format", "name"});
+  need(app.graphs, "a graph store");
+  GraphUpload u;
   if (auto f = req.query.find("format"); f != req.query.end() && f->second != "auto")
-    format = bundling::parse_graph_format(f->second, "format");
-  StoredGraph g;
+    u.format = bundling::parse_graph_format(f->second, "format");
   if (auto n = req.query.find("name"); n != req.query.end()) {
     if (n->second.empty() || n->second.size() > kMaxGraphNameLength)
       throw invalid_argument("name", "name: 1 to " + std::to_string(kMaxGraphNameLength) + " characters");
-    g.name = n->second;
+    u.name = n->second;
   }
+  return u;
+}
+}  // namespace
+
+void create_graph_check(App& app, const Request& req, const PathParams&) {
+  graph_upload(app, req);
+}
+
+Response create_graph(App& app, const Request& req, const PathParams&) {
+  const auto [format, name] = graph_upload(app, req);
+  GraphStore& graphs = *app.graphs;
+  StoredGraph g;
+  g.name = name;
   const std::string bytes = upload_bytes(req, limits::kMaxGraphUploadBytes, kTooLarge);
   g.bytes = bytes.size();
   // An OD CSV by node name needs its nodes table too: both travel in one JSON object.

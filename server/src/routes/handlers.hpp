@@ -87,5 +87,12 @@ Response delete_session(App& app, const Request& req, const PathParams& p);
 Response list_tokens(App& app, const Request& req, const PathParams& p);
 Response create_token(App& app, const Request& req, const PathParams& p);
 Response revoke_token(App& app, const Request& req, const PathParams& p);
+// Prechecks of the upload routes (Router::Route::precheck): each runs on the header, before the body is
+// read, the checks its handler runs first (parameters, name, room), and throws what the handler would.
+void create_dataset_check(App& app, const Request& req, const PathParams& p);
+void create_graph_check(App& app, const Request& req, const PathParams& p);
+void create_video_check(App& app, const Request& req, const PathParams& p);
+void create_run_check(App& app, const Request& req, const PathParams& p);
+void create_mot_check(App& app, const Request& req, const PathParams& p);
 
 }  // namespace trailscope::server::handlers

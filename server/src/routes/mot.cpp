@@ -26,13 +26,20 @@ std::string mot_text(MotStore& store, const nlohmann::json& body, const std::str
 }
 }  // namespace
 
-Response create_mot(App& app, const Request& req, const PathParams&) {
+// The query of a MOT upload (kind required): checked on the header and again by the handler.
+void create_mot_check(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {"kind", "name"});
-  MotStore& store = need(app.mot, "a MOT store");
+  need(app.mot, "a MOT store");
   const auto k = req.query.find("kind");
   if (k == req.query.end()) throw invalid_argument("kind", "kind: required (gt, result or points)");
   if (k->second != "gt" && k->second != "result" && k->second != "points")
     throw invalid_argument("kind", "kind must be gt, result or points, got '" + k->second + "'");
+}
+
+Response create_mot(App& app, const Request& req, const PathParams& p) {
+  create_mot_check(app, req, p);
+  MotStore& store = *app.mot;
+  const auto k = req.query.find("kind");
   const auto n = req.query.find("name");
   const nlohmann::json row =
       store.put(n == req.query.end() ? "" : n->second, k->second,

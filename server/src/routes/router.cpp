@@ -97,22 +97,33 @@ const Router::Route* Router::find(const std::string& method, const std::string& 
 const Router::Route* Router::admit(Request& req, PathParams& params) const {
   const Route* route = find(req.method, req.path, params);
   if (access_) access_(req, route);
+  if (route && route->precheck) route->precheck(req, params);
   return route;
 }
 
 Response Router::handle(Request req) const {
+  PathParams params;
+  const Route* r = nullptr;
   try {
-    PathParams params;
-    if (const Route* r = admit(req, params)) {
+    r = admit(req, params);
+  } catch (const std::exception& e) {
+    return error_response(e);
+  }
+  return respond(r, req, params);
+}
+
+Response Router::respond(const Route* r, const Request& req, const PathParams& params) const {
+  try {
+    if (r) {
       Response res = r->handler(req, params);
       res.head_only = req.method == "HEAD";
       return res;
     }
     std::string allow;
-    for (const Route& r : routes_) {
+    for (const Route& route : routes_) {
       PathParams ignored;
-      if (r.websocket == WebSocketKind::none && match_route(r.pattern, req.path, ignored))
-        allow += (allow.empty() ? "" : ", ") + r.method;
+      if (route.websocket == WebSocketKind::none && match_route(route.pattern, req.path, ignored))
+        allow += (allow.empty() ? "" : ", ") + route.method;
     }
     if (!allow.empty()) {
       Response res =

@@ -46,6 +46,15 @@ class Router {
     /// `writer` for every other method; the table names the exceptions.
     Role role = Role::reader;
     Lane lane = Lane::io;
+    /// Run on the request's header before its body is read (Router::admit), for uploads: validates the
+    /// query parameters, the name and the room left with the parsers the handler uses, and throws what the
+    /// handler would, so that a refused upload is refused before its body is sent. Null: none.
+    using Precheck = std::function<void(const Request&, const PathParams&)>;
+    Precheck precheck;
+    Route& checked_first(Precheck p) {
+      precheck = std::move(p);
+      return *this;
+    }
     Route& needs(Role r) {
       role = r;
       return *this;
@@ -78,12 +87,16 @@ class Router {
   /// The route `method` `path` reaches (HEAD reaches GET's; WebSocket routes excluded) with its path
   /// parameters, or null.
   const Route* find(const std::string& method, const std::string& path, PathParams& params) const;
-  /// What is known before a body is read: finds the route of `req` (headers, no body) and runs the access
-  /// check. Throws as the check does; returns null when no route matches.
+  /// What is known before a body is read: finds the route of `req` (headers, no body), runs the access
+  /// check and then the route's precheck. Throws as they do; returns null when no route matches.
   const Route* admit(Request& req, PathParams& params) const;
   /// Finds the route, runs the access check, then the handler. Unknown paths give 404, a known path with
   /// another method 405; any exception becomes the error table's response.
   Response handle(Request req) const;
+  /// The second half of handle, for a request admit() has already admitted (the network layer admits on
+  /// the header, then reads the body): runs `route`'s handler, or answers 404/405/the fallback when
+  /// `route` is null; any exception becomes the error table's response.
+  Response respond(const Route* route, const Request& req, const PathParams& params) const;
   /// The body rule of the route `method` `path` would reach; the default rule when none.
   BodyRule body_rule(const std::string& method, const std::string& path) const;
   /// Matches a WebSocket upgrade request and runs the access check and its route's check. Unknown paths are

@@ -33,6 +33,10 @@ Router make_router(App& app) {
   const auto bind = [&app](Response (*h)(App&, const Request&, const PathParams&)) {
     return [&app, h](const Request& req, const PathParams& p) { return h(app, req, p); };
   };
+  // An upload's precheck runs on its header, before the body is read (Router::Route::precheck).
+  const auto check = [&app](void (*c)(App&, const Request&, const PathParams&)) {
+    return [&app, c](const Request& req, const PathParams& p) { c(app, req, p); };
+  };
   // Uploads stream to disk with their own limit; the name is what a 413 calls the body.
   const auto upload = [](std::uint64_t limit, const char* name) { return BodyRule{limit, true, name}; };
   using namespace handlers;
@@ -47,8 +51,8 @@ Router make_router(App& app) {
   // handler on the compute pool (routes/router.hpp). method  pattern handler          statuses
   r.add("GET", "/api/v1/health", bind(health)).needs(Role::anyone);  // 200
   r.add("GET", "/api/v1/datasets", bind(list_datasets));             // 200
-  r.add("POST", "/api/v1/datasets", bind(create_dataset),
-        upload(limits::kMaxUploadBytes, "upload"));                                     // 202 400 409 413
+  r.add("POST", "/api/v1/datasets", bind(create_dataset), upload(limits::kMaxUploadBytes, "upload"))
+      .checked_first(check(create_dataset_check));                                      // 202 400 409 413
   r.add("GET", "/api/v1/datasets/{dataset}", bind(get_dataset));                        // 200 404
   r.add("DELETE", "/api/v1/datasets/{dataset}", bind(delete_dataset));                  // 204 404
   r.add("GET", "/api/v1/datasets/{dataset}/summary", bind(summary)).on(Lane::compute);  // 200 400 404
@@ -64,8 +68,8 @@ Router make_router(App& app) {
   r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile))
       .on(Lane::compute);                                     // 200 304 400 404
   r.add("GET", "/api/v1/graphs", list_handler(app, graphs));  // 200
-  r.add("POST", "/api/v1/graphs", bind(create_graph),
-        upload(limits::kMaxGraphUploadBytes, "graph upload"));             // 201 400 413 415 422
+  r.add("POST", "/api/v1/graphs", bind(create_graph), upload(limits::kMaxGraphUploadBytes, "graph upload"))
+      .checked_first(check(create_graph_check));                           // 201 400 413 415 422
   r.add("GET", "/api/v1/graphs/{graph}", get_handler(app, graphs));        // 200 404
   r.add("DELETE", "/api/v1/graphs/{graph}", delete_handler(app, graphs));  // 204 404
   // /bundles/params before /bundles/{bundle}: the first matching route wins.
@@ -82,8 +86,8 @@ Router make_router(App& app) {
       .on(Lane::compute);  // 200 304 400 404
   // Depth videos; /videos/synth before /videos/{video}.
   r.add("GET", "/api/v1/videos", list_handler(app, videos));  // 200
-  r.add("POST", "/api/v1/videos", bind(create_video),
-        upload(limits::kMaxVideoUploadBytes, "video upload"));             // 201 400 409 413 415 422
+  r.add("POST", "/api/v1/videos", bind(create_video), upload(limits::kMaxVideoUploadBytes, "video upload"))
+      .checked_first(check(create_video_check));                           // 201 400 409 413 415 422
   r.add("POST", "/api/v1/videos/synth", bind(synth_video));                // 202 400 409 413
   r.add("GET", "/api/v1/videos/{video}", get_handler(app, videos));        // 200 404
   r.add("DELETE", "/api/v1/videos/{video}", delete_handler(app, videos));  // 204 404
@@ -93,8 +97,8 @@ Router make_router(App& app) {
   // Tracker runs; /runs/track before /runs/{run}.
   r.add("GET", "/api/v1/tracker/params", bind(tracker_params));  // 200
   r.add("GET", "/api/v1/runs", list_handler(app, runs));         // 200
-  r.add("POST", "/api/v1/runs", bind(create_run),
-        upload(limits::kMaxRunBytes, "run upload"));                 // 201 400 409 413 415
+  r.add("POST", "/api/v1/runs", bind(create_run), upload(limits::kMaxRunBytes, "run upload"))
+      .checked_first(check(create_run_check));                       // 201 400 409 413 415
   r.add("POST", "/api/v1/runs/track", bind(track_run));              // 202 400 404 409
   r.add("GET", "/api/v1/runs/{run}", bind(get_run));                 // 200 404
   r.add("DELETE", "/api/v1/runs/{run}", delete_handler(app, runs));  // 204 404
@@ -102,8 +106,8 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/runs/{run}/frames", bind(run_frames));       // 200 400 404
   // MOTChallenge files and their metrics.
   r.add("GET", "/api/v1/mot", list_handler(app, mot));  // 200
-  r.add("POST", "/api/v1/mot", bind(create_mot),
-        upload(limits::kMaxRunBytes, "MOT file upload"));          // 201 400 409 413 422
+  r.add("POST", "/api/v1/mot", bind(create_mot), upload(limits::kMaxRunBytes, "MOT file upload"))
+      .checked_first(check(create_mot_check));                     // 201 400 409 413 422
   r.add("GET", "/api/v1/mot/{mot}", get_handler(app, mot));        // 200 404
   r.add("DELETE", "/api/v1/mot/{mot}", delete_handler(app, mot));  // 204 404
   r.add("POST", "/api/v1/metrics", bind(compute_metrics))

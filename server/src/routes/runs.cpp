@@ -40,9 +40,16 @@ Response get_run(App& app, const Request& req, const PathParams& p) {
   return Response::json(200, j);
 }
 
-Response create_run(App& app, const Request& req, const PathParams&) {
+// A run upload takes no parameters and needs room in the run store (409 when full): checked on the header
+// and again by the handler.
+void create_run_check(App& app, const Request& req, const PathParams&) {
   reject_unknown_params(req, {});
-  RunStore& runs = need(app.runs, "a run store");
+  need(app.runs, "a run store").check_room();
+}
+
+Response create_run(App& app, const Request& req, const PathParams& p) {
+  create_run_check(app, req, p);
+  RunStore& runs = *app.runs;
   const std::string bytes = upload_bytes(req, limits::kMaxRunBytes, kTooLarge);
   const nlohmann::json row = runs.put(tracker::decode_log(bytes), "upload", "", req.principal.owner);
   return Response::json_at(201, row, "/api/v1/runs/" + row.at("id").get<std::string>());

@@ -66,11 +66,23 @@ fs::path video_upload_file(App& app, const Request& req) {
 
 }  // namespace
 
-Response create_video(App& app, const Request& req, const PathParams&) {
+namespace {
+// The name of a video upload, checked: what the precheck runs on the header and the handler again.
+std::string video_upload(App& app, const Request& req) {
   reject_unknown_params(req, {"name"});
-  VideoStore& videos = need(app.videos, "a video store");
+  need(app.videos, "a video store");
   auto n = req.query.find("name");
-  const std::string name = video_name(n == req.query.end() ? "" : n->second);
+  return video_name(n == req.query.end() ? "" : n->second);
+}
+}  // namespace
+
+void create_video_check(App& app, const Request& req, const PathParams&) {
+  video_upload(app, req);
+}
+
+Response create_video(App& app, const Request& req, const PathParams&) {
+  const std::string name = video_upload(app, req);
+  VideoStore& videos = *app.videos;
   const fs::path file = video_upload_file(app, req);
   std::string id;
   try {
