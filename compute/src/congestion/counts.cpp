@@ -943,17 +943,25 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
   const auto sweep = [](SweepScratch& sc, const auto* begin, const auto* end, auto first, auto last,
                         Series& out) {
     if (begin == end) return;
-    auto& ev = sc.ev;
-    auto& diff = sc.diff;
-    sc.index.clear(), sc.value.clear();
-    const auto put = [&](std::uint32_t k, int c) {
-      sc.index.push_back(k), sc.value.push_back(static_cast<std::uint32_t>(c));
-    };
     std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
-    for (auto* x = begin; x != end; ++x) lo = std::min(lo, first(*x)), hi = std::max(hi, last(*x) + 1);
+    std::size_t covered = 0;  // summed lengths of the ranges: at least the number of non-zero values
+    for (auto* x = begin; x != end; ++x) {
+      lo = std::min(lo, first(*x)), hi = std::max(hi, last(*x) + 1);
+      covered += last(*x) + 1 - first(*x);
+    }
     const auto n = static_cast<std::size_t>(end - begin);
-    if (hi - lo <= 16 * n) {
+    const bool dense = hi - lo <= 16 * n;
+    // The values go to scratch sized for the most there can be (no per-value capacity checks), then
+    // to `out` in one copy each.
+    const std::size_t most = dense ? hi - lo : covered;
+    if (sc.index.size() < most) sc.index.resize(most), sc.value.resize(most);
+    std::size_t nz = 0;
+    const auto put = [&](std::uint32_t k, int c) {
+      sc.index[nz] = k, sc.value[nz] = static_cast<std::uint32_t>(c), ++nz;
+    };
+    if (dense) {
       // A difference array over the span: O(ranges + span), no sort.
+      auto& diff = sc.diff;
       diff.assign(hi - lo + 1, 0);
       for (auto* x = begin; x != end; ++x) ++diff[first(*x) - lo], --diff[last(*x) + 1 - lo];
       int c = 0;
@@ -962,6 +970,8 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
         if (c > 0) put(k, c);
       }
     } else {
+      // A few ranges far apart: their sorted +1/-1 events.
+      auto& ev = sc.ev;
       ev.clear();
       for (auto* x = begin; x != end; ++x) ev.push_back({first(*x), 1}), ev.push_back({last(*x) + 1, -1});
       std::sort(ev.begin(), ev.end());
@@ -974,8 +984,8 @@ CountsResult count(const TrailSet& set, const CountsRequest& r, const ProgressFn
           for (std::uint32_t k = at; k < next; ++k) put(k, c);
       }
     }
-    out.index.assign(sc.index.begin(), sc.index.end());
-    out.value.assign(sc.value.begin(), sc.value.end());
+    out.index.assign(sc.index.begin(), sc.index.begin() + static_cast<std::ptrdiff_t>(nz));
+    out.value.assign(sc.value.begin(), sc.value.begin() + static_cast<std::ptrdiff_t>(nz));
   };
   res.volumes.resize(keys.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 256), [&](const auto& br) {
