@@ -137,14 +137,14 @@ struct GridRowTable {
   static const GridRowTable& get();
 };
 
-// The parts of grid_cell_at, inline and without its argument checks, for loops that look up a cell
-// per sample (congestion counts): the same answers for every argument grid_cell_at accepts
-// (grid_cell_at is grid_cell_at_unchecked plus the checks). The caller guarantees lat in [-90, 90],
-// lon in [-180, 180] and a finite alt_m with |alt_m| <= 1e7 (anything else, NaN included, is
-// undefined behaviour: the casts below need finite values in range). Each takes a first guess by one
-// multiplication, then steps to the one row / column / layer whose boundaries (the exact doubles south[r],
-// -180 + c·w_r, l·kGridLayerMetres) hold the value: the answer depends on those boundaries only, never on how
-// the guess rounds.
+// The parts of grid_cell_at, inline and without its argument checks, for loops that look up a cell per
+// sample (congestion counts): the same answers for every argument grid_cell_at accepts (grid_cell_at
+// is grid_cell_at_unchecked plus the checks). The caller guarantees lat in [-90, 90], lon in
+// [-180, 180] and a finite alt_m with |alt_m| <= 1e7 (anything else, NaN included, is undefined
+// behaviour: the casts below need finite values in range). Each takes a first guess by one
+// multiplication, then steps to the one row, column or layer whose boundaries (the exact doubles
+// south[r], -180 + c·w_r, l·kGridLayerMetres) hold the value: the answer depends on those boundaries
+// only, never on how the guess rounds.
 
 /// Row of lat (lat = 90 is in the last row).
 inline int grid_row_at(const GridRowTable& t, double lat) noexcept {
