@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <set>
@@ -245,57 +246,38 @@ nlohmann::json sectors_to_geojson(const std::vector<Sector>& sectors) {
 
 // --- grid ------------------------------------------------------------------------------------------
 
-namespace {
-// Widths and column counts of every row, computed once (each cell lookup needs its row's).
-struct RowTable {
-  double width[kGridRows];
-  int columns[kGridRows];
-  RowTable() {
+const GridRowTable& GridRowTable::get() {
+  static const GridRowTable t = [] {
+    GridRowTable t;
     for (int r = 0; r < kGridRows; ++r) {
       const double mid = (-90.0 + (r + 0.5) / 3.0) * std::numbers::pi / 180.0;
-      width[r] = (1.0 / 3.0) / std::cos(mid);
-      columns[r] = static_cast<int>(std::ceil(360.0 / width[r]));
+      t.south[r] = row_south(r);
+      t.width[r] = (1.0 / 3.0) / std::cos(mid);
+      t.inv_width[r] = 1.0 / t.width[r];
+      t.columns[r] = static_cast<int>(std::ceil(360.0 / t.width[r]));
     }
-  }
-};
-const RowTable& rows() {
-  static const RowTable t;
+    return t;
+  }();
   return t;
 }
-}  // namespace
 
 double grid_column_width(int row) {
-  return rows().width[row];
+  return GridRowTable::get().width[row];
 }
 
 int grid_columns(int row) {
-  return rows().columns[row];
+  return GridRowTable::get().columns[row];
 }
 
 namespace {
 int row_of(double lat) {
-  if (lat >= 90) return kGridRows - 1;
-  int r = static_cast<int>(std::floor((lat + 90.0) * 3.0));
-  r = std::clamp(r, 0, kGridRows - 1);
-  // The boundaries are row_south(r) exactly; the product above may round across one.
-  while (r > 0 && lat < row_south(r)) --r;
-  while (r + 1 < kGridRows && lat >= row_south(r + 1)) ++r;
-  return r;
+  return grid_row_at(GridRowTable::get(), lat);
 }
 int col_of(int row, double lon) {
-  if (lon >= 180) lon = -180;
-  const double w = grid_column_width(row);
-  const int n = grid_columns(row);
-  int c = std::clamp(static_cast<int>(std::floor((lon + 180.0) / w)), 0, n - 1);
-  while (c > 0 && lon < -180.0 + c * w) --c;
-  while (c + 1 < n && lon >= -180.0 + (c + 1) * w) ++c;
-  return c;
+  return grid_col_at(GridRowTable::get(), row, lon);
 }
 int layer_of(double alt_m) {
-  int l = static_cast<int>(std::floor(alt_m / kGridLayerMetres));
-  while (alt_m < l * kGridLayerMetres) --l;
-  while (alt_m >= (l + 1) * kGridLayerMetres) ++l;
-  return l;
+  return grid_layer_at(alt_m);
 }
 }  // namespace
 
@@ -304,8 +286,7 @@ GridCell grid_cell_at(double lat, double lon, double alt_m) {
   if (!(lon >= -180 && lon <= 180)) throw invalid_argument("lon", "lon must lie in [-180, 180]");
   if (!std::isfinite(alt_m)) throw invalid_argument("alt", "alt must be a finite altitude in metres");
   if (std::fabs(alt_m) > 1e7) throw invalid_argument("alt", "alt is out of range");
-  const int r = row_of(lat);
-  return {r, col_of(r, lon), layer_of(alt_m)};
+  return grid_cell_at_unchecked(GridRowTable::get(), lat, lon, alt_m);
 }
 
 CellBounds grid_cell_bounds(const GridCell& c) {
@@ -321,7 +302,14 @@ CellBounds grid_cell_bounds(const GridCell& c) {
 }
 
 std::string grid_cell_id(const GridCell& c) {
-  return "r" + std::to_string(c.row) + "c" + std::to_string(c.col) + "l" + std::to_string(c.layer);
+  // Formatted in one buffer: a grid answer names tens of thousands of cells.
+  char buf[40];
+  std::size_t n = 0;
+  for (const auto& [tag, v] : {std::pair{'r', c.row}, std::pair{'c', c.col}, std::pair{'l', c.layer}}) {
+    buf[n++] = tag;
+    n = static_cast<std::size_t>(std::to_chars(buf + n, buf + sizeof buf, v).ptr - buf);
+  }
+  return std::string(buf, n);
 }
 
 GridCell parse_grid_cell_id(const std::string& id) {

@@ -127,6 +127,56 @@ int grid_columns(int row);
 /// The cell holding (lat, lon, alt_m): lat in [-90, 90], lon in [-180, 180] (180 taken as -180), alt
 /// finite. Throws invalid_argument("lat"/"lon"/"alt") for values out of range or not finite.
 GridCell grid_cell_at(double lat, double lon, double alt_m);
+
+/// The boundaries of the rows, computed once per process: what a cell lookup reads.
+struct GridRowTable {
+  double south[kGridRows];      ///< southern boundary of row r, -90 + r/3 (degrees)
+  double width[kGridRows];      ///< column width w_r (degrees of longitude)
+  double inv_width[kGridRows];  ///< 1 / w_r: a first guess of the column only
+  int columns[kGridRows];       ///< ceil(360 / w_r)
+  static const GridRowTable& get();
+};
+
+// The parts of grid_cell_at, inline and without its argument checks, for loops that look up a cell per
+// sample (congestion counts): the same answers for every argument grid_cell_at accepts (grid_cell_at
+// is grid_cell_at_unchecked plus the checks). The caller guarantees lat in [-90, 90], lon in
+// [-180, 180] and a finite alt_m with |alt_m| <= 1e7 (anything else, NaN included, is undefined
+// behaviour: the casts below need finite values in range). Each takes a first guess by one
+// multiplication, then steps to the one row, column or layer whose boundaries (the exact doubles
+// south[r], -180 + c·w_r, l·kGridLayerMetres) hold the value: the answer depends on those boundaries
+// only, never on how the guess rounds.
+
+/// Row of lat (lat = 90 is in the last row).
+inline int grid_row_at(const GridRowTable& t, double lat) noexcept {
+  if (lat >= 90) return kGridRows - 1;
+  int r = static_cast<int>((lat + 90.0) * 3.0);  // >= 0: truncation is floor
+  r = r > kGridRows - 1 ? kGridRows - 1 : r;
+  while (r > 0 && lat < t.south[r]) --r;
+  while (r + 1 < kGridRows && lat >= t.south[r + 1]) ++r;
+  return r;
+}
+/// Column of lon in row `row` (lon = 180 is taken as -180).
+inline int grid_col_at(const GridRowTable& t, int row, double lon) noexcept {
+  if (lon >= 180) lon = -180;
+  const double w = t.width[row];
+  const int n = t.columns[row];
+  int c = static_cast<int>((lon + 180.0) * t.inv_width[row]);  // >= 0: truncation is floor
+  c = c > n - 1 ? n - 1 : c;
+  while (c > 0 && lon < -180.0 + c * w) --c;
+  while (c + 1 < n && lon >= -180.0 + (c + 1) * w) ++c;
+  return c;
+}
+/// Layer of alt_m (metres; negative below the zero altitude).
+inline int grid_layer_at(double alt_m) noexcept {
+  int l = static_cast<int>(alt_m * (1.0 / kGridLayerMetres));  // truncation: off by at most one
+  while (alt_m < l * kGridLayerMetres) --l;
+  while (alt_m >= (l + 1) * kGridLayerMetres) ++l;
+  return l;
+}
+inline GridCell grid_cell_at_unchecked(const GridRowTable& t, double lat, double lon, double alt_m) noexcept {
+  const int r = grid_row_at(t, lat);
+  return {r, grid_col_at(t, r, lon), grid_layer_at(alt_m)};
+}
 CellBounds grid_cell_bounds(const GridCell& c);
 /// "r<row>c<col>l<layer>".
 std::string grid_cell_id(const GridCell& c);
