@@ -40,10 +40,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::refuse(e);
   }
   try {
-    // Path parameters as the router fills them from /tiles/{z}/{x}/{y}.png: the query's own z, x, y.
+    // The router always fills z, x and y from /tiles/{z}/{x}/{y}.png; here from the query's own z, x, y
+    // (any text), "0" when absent.
     PathParams p;
-    for (const char* k : {"z", "x", "y"})
-      if (auto it = req.query.find(k); it != req.query.end()) p[k] = it->second;
+    for (const char* k : {"z", "x", "y"}) {
+      auto it = req.query.find(k);
+      p[k] = it != req.query.end() ? it->second : "0";
+    }
     (void)params::tile_coords(req, p);
   } catch (const Error& e) {
     fuzz::refuse(e);

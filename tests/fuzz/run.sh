@@ -2,6 +2,7 @@
 # Runs the libFuzzer harnesses (README "Fuzzing and sanitizers"):
 #   tests/fuzz/run.sh BUILD_DIR --seconds S [--jobs J] [harness...]   each harness for S seconds (make fuzz)
 #   tests/fuzz/run.sh BUILD_DIR --runs N [--out FILE] [harness...]    each until N executions (make fuzz-long)
+# Both --runs and --seconds: whichever limit comes first.
 # BUILD_DIR is a build configured with clang and -DTRAILSCOPE_FUZZ=ON whose `fuzzers` target is built.
 # Each harness starts from BUILD_DIR/fuzz-corpus/<harness> (seeds.sh; new inputs are added there) plus the
 # committed seeds and crash reproducers (tests/fuzz/seeds/<harness>, tests/fuzz/regressions/<harness>).
@@ -44,10 +45,11 @@ one() {
   mkdir -p "$corpus" "$art"
   local dirs=("$corpus")
   for d in "$here/seeds/$h" "$here/regressions/$h"; do [ -d "$d" ] && dirs+=("$d"); done
-  local limit=(-max_total_time="$seconds")
-  [ -n "$runs" ] && limit=(-runs="$runs")
+  local limit=()
+  [ -n "$seconds" ] && limit+=(-max_total_time="$seconds")
+  [ -n "$runs" ] && limit+=(-runs="$runs")
   local t0=$SECONDS rc
-  "$bin" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+  "$bin" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$art" "${dirs[@]}" > "$log" 2>&1
   rc=$?
   local wall=$((SECONDS - t0))
@@ -61,7 +63,7 @@ one() {
   local outcome=ok
   [ $rc -ne 0 ] && outcome="failed (exit $rc; see $log and $art)"
   printf '{"bench":"fuzz","harness":"%s","mode":"%s","executions":%s,"exec_per_s":%s,"cov":%s,"ft":%s,"corpus":%s,"wall_s":%s,"exit":%s,"outcome":"%s"}\n' \
-    "$h" "${runs:+runs=$runs}${seconds:+seconds=$seconds}" "${execs:-0}" "${rate:-0}" "${cov:-0}" "${ft:-0}" \
+    "$h" "${runs:+runs=$runs }${seconds:+seconds=$seconds}" "${execs:-0}" "${rate:-0}" "${cov:-0}" "${ft:-0}" \
     "${corp:-0}" "$wall" "$rc" "$outcome" >> "$out"
   printf '%-22s %10s execs %7s/s cov %5s ft %6s  %s\n' "$h" "${execs:-0}" "${rate:-0}" "${cov:-0}" "${ft:-0}" "$outcome"
   return $rc
