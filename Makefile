@@ -8,11 +8,11 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # Debian packages (Debian 12 names; Boost 1.81 brings Beast, Asio, JSON and URL). Only the missing ones are
 # installed.
-APT_PACKAGES := build-essential cmake ninja-build pkg-config
-  libeigen3-dev libopencv-dev libgeographiclib-dev libopenimageio-dev openimageio-tools
-  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
-  libboost1.81-dev libboost-json1.81-dev libboost-url1.81-dev nlohmann-json3-dev
-  libprotobuf-dev protobuf-compiler libsqlite3-dev libgtest-dev libgmock-dev libbenchmark-dev
+APT_PACKAGES := build-essential cmake ninja-build pkg-config \
+  libeigen3-dev libopencv-dev libgeographiclib-dev libopenimageio-dev openimageio-tools \
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo \
+  libboost1.81-dev libboost-json1.81-dev libboost-url1.81-dev nlohmann-json3-dev \
+  libprotobuf-dev protobuf-compiler libsqlite3-dev libgtest-dev libgmock-dev libbenchmark-dev \
   libspdlog-dev libcli11-dev libzstd-dev libtbb-dev zlib1g-dev libpugixml-dev curl
 # Needed by `make test` (browser test, loopback test: python3 reads its JSON) and `make bench` only.
 APT_TEST_PACKAGES := chromium wrk python3
@@ -24,10 +24,10 @@ APT_FUZZ_PACKAGES := clang libclang-rt-14-dev llvm
 .PHONY: run test deps deps-test deps-bench web-deps web build demo clean format bench check-web
 
 define apt_install
-	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done);
-	if [ -n "$$missing" ]; then
-	  echo "installing Debian packages:" $$missing;
-	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing;
+	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:" $$missing; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
 endef
 
@@ -99,8 +99,8 @@ deps-fuzz: deps-test
 	$(call apt_install,$(APT_FUZZ_PACKAGES))
 
 asan-configure: deps-fuzz
-	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++
-	  -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only"
+	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" \
 	  -DTRAILSCOPE_FUZZ=ON -DTRAILSCOPE_BUILD_BENCH=OFF
 
 # The C++ tests under ASan + UBSan (gtest discovery runs the test binaries at build time: same options).
