@@ -1084,14 +1084,17 @@ int main(int argc, char** argv) {
              << path
              << "` by `tests/fuzz/run.sh`, not in this benchmark run; a harness stopped before the goal "
                 "(the machine's time ran out) shows the executions it reached. cov / ft: libFuzzer's "
-                "covered edges / features at the end. Fixed: crash inputs found by fuzzing, fixed in the "
-                "parser and kept as regression inputs in `tests/fuzz/regressions/<harness>/` (ctest replays "
-                "them).\n\n"
-                "| harness | executions | ≥ 10 M | exec/s | cov / ft | corpus | wall s | fixed | outcome "
+                "covered edges / features at the end. Regressions: inputs kept in "
+                "`tests/fuzz/regressions/<harness>/` (ctest replays them) — crashes the fuzzer found, fixed "
+                "in "
+                "the parser, and reproducers of the same fault written for sibling parsers.\n\n"
+                "| harness | executions | ≥ 10 M | exec/s | cov / ft | corpus | wall s | regressions | "
+                "outcome "
                 "|\n|---|---|---|---|---|---|---|---|---|\n"
              << rows.str() << "\n"
              << reached << " of " << runs.size() << " harnesses reached " << grouped(kGoal) << " executions; "
-             << open << " open crash(es); " << total_fixed << " crash input(s) found and fixed.\n\n";
+             << open << " harness(es) with an open crash; " << total_fixed
+             << " regression input(s) kept.\n\n";
       }
     }
 
