@@ -18,6 +18,9 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config \
 # Needed by `make test` (browser test, loopback test: python3 reads its JSON) and `make bench` only.
 APT_TEST_PACKAGES := chromium wrk python3
 APT_BENCH_PACKAGES := clickhouse-server clickhouse-client
+# Needed by `make test-asan` and `make fuzz` only: clang with libFuzzer and the sanitizer runtimes, and
+# llvm-symbolizer for readable sanitizer stack traces (Debian 12: clang 14).
+APT_FUZZ_PACKAGES := clang libclang-rt-14-dev llvm
 
 .PHONY: run test deps deps-test deps-bench web-deps web build demo clean format bench check-web
 
@@ -80,3 +83,45 @@ format:
 
 clean:
 	rm -rf $(BUILD_DIR) web/dist
+
+# ---- Fuzzing and sanitizers (README "Fuzzing and sanitizers") ------------------------------------------
+# One checking build, $(ASAN_BUILD_DIR): clang, every library and test with AddressSanitizer and
+# UndefinedBehaviorSanitizer (undefined behaviour fatal) plus libFuzzer's coverage instrumentation, and the
+# harnesses of tests/fuzz. `make test-asan` runs the C++ tests (ctest) there; `make fuzz` runs every
+# harness for FUZZ_SECONDS; `make fuzz-long` runs every harness to FUZZ_RUNS executions, one at a time at
+# the lowest priority, and records the figures in tests/fuzz/long_run.jsonl (BENCHMARKS.md's fuzzing
+# section). .ci/run runs test-asan and fuzz after `make test`.
+ASAN_BUILD_DIR ?= build-asan
+FUZZ_SECONDS ?= 60
+FUZZ_RUNS ?= 10000000
+FUZZ_JOBS ?= $(JOBS)
+# Leak suppressions (third-party allocations only, each explained in the file); UBSan stops at the first
+# report; ASan aborts so that ctest sees the failure.
+SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:fast_unwind_on_malloc=0 \
+  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp:print_suppressions=0 \
+  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+
+.PHONY: deps-fuzz asan-configure test-asan fuzz-build fuzz fuzz-long
+
+deps-fuzz: deps-test
+	$(call apt_install,$(APT_FUZZ_PACKAGES))
+
+asan-configure: deps-fuzz
+	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" \
+	  -DTRAILSCOPE_FUZZ=ON -DTRAILSCOPE_BUILD_BENCH=OFF
+
+# The C++ tests under ASan + UBSan (gtest discovery runs the test binaries at build time: same options).
+test-asan: asan-configure
+	$(SANITIZER_ENV) cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
+	cd $(ASAN_BUILD_DIR) && $(SANITIZER_ENV) ctest --output-on-failure -j $(JOBS)
+
+fuzz-build: asan-configure
+	cmake --build $(ASAN_BUILD_DIR) -j $(JOBS) --target fuzzers
+	bash tests/fuzz/seeds.sh $(ASAN_BUILD_DIR)
+
+fuzz: fuzz-build
+	bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --seconds $(FUZZ_SECONDS) --jobs $(FUZZ_JOBS)
+
+fuzz-long: fuzz-build
+	nice -n 19 bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --runs $(FUZZ_RUNS) --out tests/fuzz/long_run.jsonl

@@ -5,6 +5,7 @@
 //
 // Lines of results.jsonl that are not JSON objects are ignored. Every figure in the report is a median
 // (p50) unless a column says otherwise; targets are those of the benchmark issue.
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -1038,6 +1039,63 @@ int main(int argc, char** argv) {
           break;
         }
       body << "\n";
+    }
+
+    // ---- fuzzing: the long run of every libFuzzer harness (tests/fuzz, `make fuzz-long`) ----------------
+    // Not measured by this script: `make fuzz-long` writes tests/fuzz/long_run.jsonl (one line per harness,
+    // tests/fuzz/run.sh), which is committed and shown here when present (--fuzz-results overrides the path).
+    {
+      const std::string path = a.has("fuzz-results") ? a.get("fuzz-results") : "tests/fuzz/long_run.jsonl";
+      std::ifstream in(path);
+      std::vector<json> runs;
+      for (std::string line; std::getline(in, line);)
+        if (!line.empty() && line[0] == '{') runs.push_back(json::parse(line));
+      if (!runs.empty()) {
+        constexpr double kGoal = 10'000'000;  // executions per harness
+        const std::filesystem::path regressions = std::filesystem::path(path).parent_path() / "regressions";
+        const auto fixed = [&](const std::string& h) {
+          std::size_t n = 0;
+          std::error_code ec;
+          for (std::filesystem::directory_iterator it(regressions / h, ec), end; !ec && it != end; ++it) ++n;
+          return n;
+        };
+        std::size_t reached = 0, open = 0, total_fixed = 0;
+        std::ostringstream rows;
+        for (const json& r : runs) {
+          const std::string h = r.value("harness", "");
+          const double execs = r.value("executions", 0.0);
+          const bool ok = r.value("exit", 1) == 0;
+          reached += execs >= kGoal;
+          open += !ok;
+          total_fixed += fixed(h);
+          rows << "| `" << h << "` | " << grouped(execs) << " | " << (execs >= kGoal ? "yes" : "**no**")
+               << " | " << grouped(r.value("exec_per_s", 0.0)) << " | " << grouped(r.value("cov", 0.0))
+               << " / " << grouped(r.value("ft", 0.0)) << " | " << grouped(r.value("corpus", 0.0)) << " | "
+               << grouped(r.value("wall_s", 0.0)) << " | " << fixed(h) << " | "
+               << (ok ? std::string("clean") : "**" + r.value("outcome", std::string("failed")) + "**")
+               << " |\n";
+        }
+        body << "## Fuzzing: the long run\n\n"
+                "Each libFuzzer harness of `tests/fuzz` (one per parser; clang, ASan + UBSan, libFuzzer "
+                "coverage) run by `make fuzz-long` until "
+             << grouped(kGoal)
+             << " executions, one harness at a time at `nice -n 19`, from the seed corpus of "
+                "`tests/fuzz/seeds.sh` (cuts of the shared data) and the committed seeds. Recorded in `"
+             << path
+             << "` by `tests/fuzz/run.sh`, not in this benchmark run; a harness stopped before the goal "
+                "(the machine's time ran out) shows the executions it reached. cov / ft: libFuzzer's "
+                "covered edges / features at the end. Regressions: inputs kept in "
+                "`tests/fuzz/regressions/<harness>/` (ctest replays them) — crashes the fuzzer found, fixed "
+                "in "
+                "the parser, and reproducers of the same fault written for sibling parsers.\n\n"
+                "| harness | executions | ≥ 10 M | exec/s | cov / ft | corpus | wall s | regressions | "
+                "outcome "
+                "|\n|---|---|---|---|---|---|---|---|---|\n"
+             << rows.str() << "\n"
+             << reached << " of " << runs.size() << " harnesses reached " << grouped(kGoal) << " executions; "
+             << open << " harness(es) with an open crash; " << total_fixed
+             << " regression input(s) kept.\n\n";
+      }
     }
 
     // ---- assemble ----------------------------------------------------------------------------------

@@ -50,7 +50,8 @@ void read_readsb_trace(ReadContext& ctx) {
   json doc;
   try {
     doc = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error for bad syntax, out_of_range for a number beyond double's range ("1e999").
     throw Error(Error::Kind::unprocessable, "file", std::string("invalid JSON in readsb trace: ") + e.what());
   }
   if (ctx.opts.cancel) ctx.opts.cancel->throw_if_cancelled();

@@ -193,7 +193,9 @@ Manifest manifest_from_text(const std::string& text, const std::string& where) {
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error for bad syntax, out_of_range for a number beyond double's range ("1E400"): both are
+    // the file's fault, not ours.
     schema_error(where, std::string("not valid JSON (") + e.what() + ")");
   }
   Manifest m;

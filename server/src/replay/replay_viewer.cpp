@@ -23,18 +23,6 @@ nlohmann::json error_message(nlohmann::json body) {
   return body;
 }
 
-nlohmann::json error_message(const std::string& param, const std::string& detail) {
-  return error_message(error_json("invalid_argument", param, detail));
-}
-
-/// An integer field of an op, or an error naming it.
-std::optional<std::int64_t> integer_field(const nlohmann::json& j, const char* name) {
-  auto it = j.find(name);
-  if (it == j.end() || !it->is_number()) return std::nullopt;
-  const double v = it->get<double>();
-  if (!std::isfinite(v) || v != std::floor(v) || std::abs(v) > 1e15) return std::nullopt;
-  return static_cast<std::int64_t>(v);
-}
 }  // namespace
 
 ReplayViewer::ReplayViewer(beast::tcp_stream&& stream, std::shared_ptr<Replay> replay)
@@ -78,8 +66,8 @@ void ReplayViewer::on_accept(beast::error_code ec) {
   send_text({{"type", "hello"},
              {"replay", replay_->to_json()},
              {"header", replay_->header_json()},
-             {"state", {{"playing", playing_}, {"frame", cursor_}, {"speed", speed_}}}});
-  want_ = 0;  // the first picture without asking
+             {"state", {{"playing", pb_.playing}, {"frame", pb_.cursor}, {"speed", pb_.speed}}}});
+  pb_.want = 0;  // the first picture without asking
   tick();
   do_read();
 }
@@ -96,7 +84,8 @@ void ReplayViewer::on_read(beast::error_code ec, std::size_t) {
   }
   std::optional<nlohmann::json> err;
   if (!ws_.got_text())
-    err = error_message("op", "messages to a replay are JSON text such as {\"op\":\"play\"}");
+    err = error_message(
+        error_json("invalid_argument", "op", "messages to a replay are JSON text such as {\"op\":\"play\"}"));
   else
     err = apply(beast::buffers_to_string(buffer_.data()));
   buffer_.consume(buffer_.size());
@@ -105,44 +94,7 @@ void ReplayViewer::on_read(beast::error_code ec, std::size_t) {
 }
 
 std::optional<nlohmann::json> ReplayViewer::apply(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  if (!j.is_object() || !j.contains("op") || !j["op"].is_string())
-    return error_message("op",
-                         "a message must be a JSON object with a string \"op\": play, pause, seek, step "
-                         "or speed");
-  const std::string op = j["op"];
-  const std::size_t total = replay_->frame_count();
-  if (op == "play") {
-    if (cursor_ + 1 >= total) cursor_ = 0, want_ = 0;  // play at the end starts over
-    playing_ = true;
-    anchored_ = false;
-  } else if (op == "pause") {
-    playing_ = false;
-  } else if (op == "seek") {
-    const auto f = integer_field(j, "frame");
-    if (!f || *f < 0 || static_cast<std::uint64_t>(*f) >= total)
-      return error_message("frame", "seek: frame must be an integer in 0.." + std::to_string(total - 1));
-    cursor_ = static_cast<std::size_t>(*f);
-    want_ = cursor_;
-    anchored_ = false;
-  } else if (op == "step") {
-    const auto d = integer_field(j, "delta");
-    if (!d) return error_message("delta", "step: delta must be an integer (frames, negative = back)");
-    playing_ = false;  // stepping is for looking at single frames
-    const std::int64_t to = std::clamp<std::int64_t>(static_cast<std::int64_t>(cursor_) + *d, 0,
-                                                     static_cast<std::int64_t>(total) - 1);
-    cursor_ = static_cast<std::size_t>(to);
-    want_ = cursor_;
-  } else if (op == "speed") {
-    auto it = j.find("value");
-    const double v = it != j.end() && it->is_number() ? it->get<double>() : std::nan("");
-    if (!(v >= kMinSpeed && v <= kMaxSpeed))
-      return error_message("value", "speed: value must be a number in 0.1..16 (times the video's rate)");
-    speed_ = v;
-    anchored_ = false;
-  } else {
-    return error_message("op", "unknown op '" + op + "': play, pause, seek, step or speed");
-  }
+  if (auto err = apply_replay_control(text, replay_->frame_count(), pb_)) return err;
   send_state();
   tick();
   return std::nullopt;
@@ -150,9 +102,9 @@ std::optional<nlohmann::json> ReplayViewer::apply(const std::string& text) {
 
 void ReplayViewer::send_state() {
   send_text({{"type", "state"},
-             {"playing", playing_},
-             {"frame", cursor_},
-             {"speed", speed_},
+             {"playing", pb_.playing},
+             {"frame", pb_.cursor},
+             {"speed", pb_.speed},
              {"computed", replay_->computed()},
              {"done", replay_->done()}});
 }
@@ -172,18 +124,18 @@ void ReplayViewer::enqueue(WsWriteQueue::Message out) {
 }
 
 void ReplayViewer::pump() {
-  if (closed_ || !want_ || frames_in_flight_ >= kMaxFramesInFlight) return;
+  if (closed_ || !pb_.want || frames_in_flight_ >= kMaxFramesInFlight) return;
   try {
-    auto msg = replay_->frame_message(*want_);
+    auto msg = replay_->frame_message(*pb_.want);
     if (!msg) return;  // not computed yet: tick() polls
-    want_.reset();
+    pb_.want.reset();
     enqueue({std::make_shared<const std::string>(std::move(*msg)), true});
   } catch (const std::exception& e) {
     // The video went away under the replay (deleted): say so, stop playing, keep the connection.
     nlohmann::json body = error_body(e).body;
     body["param"] = "frame";
-    want_.reset();
-    playing_ = false;
+    pb_.want.reset();
+    pb_.playing = false;
     send_text(error_message(std::move(body)));
   }
 }
@@ -193,23 +145,25 @@ void ReplayViewer::tick() {
   const auto now = Clock::now();
   std::optional<Clock::duration> next;
   bool ended = false;
-  if (playing_) {
+  if (pb_.playing) {
     const std::size_t total = replay_->frame_count(), computed = replay_->computed();
-    if (!anchored_) {
-      if (auto ts = replay_->timestamp(cursor_)) anchor_wall_ = now, anchor_ts_ = *ts, anchored_ = true;
+    if (!pb_.anchored) {
+      if (auto ts = replay_->timestamp(pb_.cursor)) anchor_wall_ = now, anchor_ts_ = *ts, pb_.anchored = true;
     }
-    if (!anchored_) {
+    if (!pb_.anchored) {
       next = kPollInterval;  // the cursor's frame is not computed yet
     } else {
-      const double target = anchor_ts_ + std::chrono::duration<double>(now - anchor_wall_).count() * speed_;
+      const double target =
+          anchor_ts_ + std::chrono::duration<double>(now - anchor_wall_).count() * pb_.speed;
       bool moved = false;
       // Frames whose time has passed are skipped, not queued: only the newest is sent.
-      while (cursor_ + 1 < computed && *replay_->timestamp(cursor_ + 1) <= target) ++cursor_, moved = true;
-      if (moved) want_ = cursor_;
-      if (cursor_ + 1 >= total) {
+      while (pb_.cursor + 1 < computed && *replay_->timestamp(pb_.cursor + 1) <= target)
+        ++pb_.cursor, moved = true;
+      if (moved) pb_.want = pb_.cursor;
+      if (pb_.cursor + 1 >= total) {
         ended = true;
-      } else if (cursor_ + 1 < computed) {
-        const double dt = (*replay_->timestamp(cursor_ + 1) - anchor_ts_) / speed_;
+      } else if (pb_.cursor + 1 < computed) {
+        const double dt = (*replay_->timestamp(pb_.cursor + 1) - anchor_ts_) / pb_.speed;
         const auto due =
             anchor_wall_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dt));
         next = std::max<Clock::duration>(due - now, Clock::duration::zero());
@@ -217,17 +171,17 @@ void ReplayViewer::tick() {
         ended = true;  // tracking stopped early: play what there is
       } else {
         // Waiting for the tracker: restart the clock at the cursor so playback resumes at its pace.
-        anchor_wall_ = now, anchor_ts_ = *replay_->timestamp(cursor_);
+        anchor_wall_ = now, anchor_ts_ = *replay_->timestamp(pb_.cursor);
         next = kPollInterval;
       }
     }
   }
   pump();
   if (ended) {
-    playing_ = false;
+    pb_.playing = false;
     send_state();
   }
-  if (want_ && !replay_->timestamp(*want_))
+  if (pb_.want && !replay_->timestamp(*pb_.want))
     next = next ? std::min<Clock::duration>(*next, kPollInterval) : kPollInterval;
   if (next) schedule(*next);
 }
@@ -249,7 +203,7 @@ void ReplayViewer::on_close() {
   boost::asio::post(ws_.get_executor(), [self = shared_from_this()] {
     if (self->closed_) return;
     self->closed_ = true;
-    self->playing_ = false;
+    self->pb_.playing = false;
     self->timer_.cancel();
     if (self->out_.empty())
       self->ws_.async_close(websocket::close_code::going_away, [self](beast::error_code) {});

@@ -15,13 +15,12 @@
 
 #include "net/ws_write_queue.hpp"
 #include "replay/replay.hpp"
+#include "replay/replay_control.hpp"
 
 namespace trailscope::server {
 
 class ReplayViewer : public ReplayListener, public std::enable_shared_from_this<ReplayViewer> {
  public:
-  /// Playback speeds a viewer may ask for (multiples of the video's own rate).
-  static constexpr double kMinSpeed = 0.1, kMaxSpeed = 16;
   /// Binary frame messages queued or being written at once; later frames are dropped while playing
   /// (a seek or step is kept and sent when one completes), so a slow client never builds a queue.
   static constexpr int kMaxFramesInFlight = 2;
@@ -59,13 +58,9 @@ class ReplayViewer : public ReplayListener, public std::enable_shared_from_this<
   bool attached_ = false;
 
   // playback state (strand only)
-  bool playing_ = false;
-  std::size_t cursor_ = 0;
-  double speed_ = 1;
-  std::optional<std::size_t> want_;  ///< frame to send next
+  ReplayPlayback pb_;
   std::chrono::steady_clock::time_point anchor_wall_;
   double anchor_ts_ = 0;
-  bool anchored_ = false;  ///< anchor_ts_ belongs to the cursor's computed timestamp
 };
 
 }  // namespace trailscope::server

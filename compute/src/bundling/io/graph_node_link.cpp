@@ -42,6 +42,9 @@ Graph parse_node_link(std::string_view bytes) {
     doc = nlohmann::json::parse(bytes.begin(), bytes.end());
   } catch (const nlohmann::json::parse_error& e) {
     fail(kFormat, line_of(bytes, e.byte > 0 ? e.byte - 1 : 0), std::string("JSON error: ") + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    // A number beyond double's range ("1e999") is out_of_range, not a parse_error, and carries no position.
+    fail(kFormat, 0, std::string("JSON error: ") + e.what());
   }
   if (!doc.is_object()) fail(kFormat, 0, "the document is not a JSON object");
   const auto nodes = doc.find("nodes");

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# Builds the fuzzing seed corpus from the real data in the shared folder, out of the tree:
+#   tests/fuzz/seeds.sh BUILD_DIR [SHARED]
+# writes BUILD_DIR/fuzz-corpus/<harness>/ (the corpus each harness starts from and grows; `make fuzz`
+# runs it first). Each seed is a small cut of a real file (a few records, edges or lines), so that the
+# fuzzer's mutations stay fast; nothing of the data is copied into the repository. Seeds that need
+# TrailScope's own writers (a depth-video pack, tracker logs) come from the fuzz_seeds program.
+# Harnesses with no shared file of their kind (OpenSky CSV, od_csv, the request and control messages)
+# start from the hand-written seeds committed in tests/fuzz/seeds/<harness>/ (run.sh adds them).
+set -euo pipefail
+build=${1:?usage: seeds.sh BUILD_DIR [SHARED]}
+here=$(cd "$(dirname "$0")" && pwd)
+shared=${2:-${TRAILSCOPE_SHARED:-$here/../../../shared}}
+data=$shared/data
+[ -d "$data" ] || { echo "seeds.sh: no data folder at $data (set TRAILSCOPE_SHARED)" >&2; exit 1; }
+out=$build/fuzz-corpus
+mkdir -p "$out"
+seed() { mkdir -p "$out/$1"; cat > "$out/$1/$2"; }
+
+# SO6: the first segments of the Europe day, and segments from the middle of the file.
+so6=$data/flights/traffic_europe_20180101_m3.so6.gz
+{ zcat "$so6" || true; } | head -n 30 | seed ingest_so6 head30.so6
+{ zcat "$so6" || true; } | head -n 200000 | tail -n 12 | seed ingest_so6 mid12.so6
+
+# traffic JSON (arrays of records, gzip) and readsb trace_full: a few records, as an array and as JSON
+# Lines; the first trace entries.
+python3 - "$data/flights" "$out" <<'PY'
+import gzip, json, os, sys
+src, out = sys.argv[1], sys.argv[2]
+def put(h, name, text):
+    os.makedirs(os.path.join(out, h), exist_ok=True)
+    open(os.path.join(out, h, name), 'w').write(text)
+for f in sorted(os.listdir(src)):
+    if f.startswith('traffic_sample_') and f.endswith('.json.gz'):
+        recs = json.load(gzip.open(os.path.join(src, f)))[:12]
+        base = f[len('traffic_sample_'):-len('.json.gz')]
+        put('ingest_traffic_json', base + '.json', json.dumps(recs))
+        put('ingest_traffic_json', base + '.jsonl', ''.join(json.dumps(r) + '\n' for r in recs[:6]))
+trace = json.load(open(os.path.join(src, 'traffic_sample_trace_full_ac671b.json')))
+trace['trace'] = trace['trace'][:12]
+put('ingest_readsb_trace', 'ac671b_12.json', json.dumps(trace))
+PY
+
+# GraphML (FDEB airlines, migrations): the first edges and only the nodes they use.
+python3 - "$data/bundling" "$out/graph_graphml" <<'PY'
+import os, re, sys
+src, out = sys.argv[1], sys.argv[2]
+os.makedirs(out, exist_ok=True)
+for name in ('airlines', 'migrations'):
+    text = open(os.path.join(src, 'classic', name + '.xml')).read()
+    head = text[:text.index('<node')]
+    edges = re.findall(r'<edge\b.*?(?:/>|</edge>)', text, re.S)[:10]
+    used = {m for e in edges for m in re.findall(r'(?:source|target)="([^"]*)"', e)}
+    nodes = [n for n in re.findall(r'<node\b.*?(?:/>|</node>)', text, re.S)
+             if re.search(r'id="([^"]*)"', n).group(1) in used]
+    open(os.path.join(out, name + '.graphml'), 'w').write(
+        head + '\n'.join(nodes) + '\n' + '\n'.join(edges) + '\n</graph>\n</graphml>\n')
+PY
+
+# node-link JSON (the same graphs, epb): the first links and their nodes.
+python3 - "$data/bundling/epb" "$out/graph_node_link" <<'PY'
+import json, os, sys
+src, out = sys.argv[1], sys.argv[2]
+os.makedirs(out, exist_ok=True)
+for f in sorted(os.listdir(src)):
+    g = json.load(open(os.path.join(src, f)))
+    key = 'links' if 'links' in g else 'edges'
+    links = g[key][:10]
+    used = {l['source'] for l in links} | {l['target'] for l in links}
+    g['nodes'] = [n for i, n in enumerate(g['nodes']) if n.get('id', i) in used or i in used]
+    g[key] = links
+    json.dump(g, open(os.path.join(out, f), 'w'))
+PY
+
+# CUBu trails: the first lines of .trl / .xy files and of the numbered data sets.
+for f in "$data"/bundling/cubu/*; do
+  [ -f "$f" ] || continue
+  head -n 6 "$f" | cut -c 1-600 | seed graph_trl "$(basename "$f").trl"
+done
+
+# MOTChallenge: ground truth, detections and a tracker's output, the first lines of each.
+n=0
+while IFS= read -r f; do
+  n=$((n + 1))
+  head -n 25 "$f" | seed mot_text "mot$n.txt"
+done < <(find "$data/tracker/mot" -name '*.txt' -path '*gt*' -o -name '*.txt' -path '*tracker_*' | sort)
+
+# Depth video: three real depth frames (Open3D's RGB-D sample) cut to 16x12, as single PNGs and through
+# fuzz_seeds as a pack and a manifest; tracker logs in both encodings.
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$tmp/png" "$out/depth_pack"
+for i in 0 1 2; do
+  oiiotool "$data/tracker/depth_open3d_rgbd/depth/0000$i.png" --resize 16x12 -d uint16 -o "$tmp/png/0000$i.png"
+done
+cp "$tmp/png/00000.png" "$out/depth_pack/frame16x12.png"
+"$build/tests/fuzz/fuzz_seeds" "$tmp/png" "$out"
+
+for d in "$out"/*/; do echo "$(basename "$d"): $(ls "$d" | wc -l) seeds"; done
