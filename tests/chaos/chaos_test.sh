@@ -72,9 +72,10 @@ wait_job() {
 ids() { c "$URL/api/v1/$1" | json "' '.join(sorted(str(x['id']) for x in d['$2']))"; }
 
 # Every file of the store but tmp/ and uploads/, with its sha256: what "byte-identical" compares. Id
-# counters (".last_id") are left out: they advance by design, and the id checks cover them.
+# counters (".last_id", ".last_job_id", ".last_replay_id") are left out: they advance by design, and the
+# id checks cover them.
 snapshot() {
-  (cd "$DATA" && find . \( -path ./tmp -o -path ./uploads \) -prune -o -type f ! -name .last_id -print0 |
+  (cd "$DATA" && find . \( -path ./tmp -o -path ./uploads \) -prune -o -type f ! -name ".last_*id" -print0 |
     xargs -0 -r sha256sum | LC_ALL=C sort)
 }
 
@@ -120,7 +121,7 @@ check "baseline: video v1" "v1 done" "$(echo "$r" | json 'd["video"]') $(wait_jo
 r=$(post_json /api/v1/runs/track '{"video": "v1"}')
 check "baseline: track run" done "$(wait_job "$(echo "$r" | json 'd["job"]["id"]')")"
 check "baseline: MOT m1" m1 "$(c --data-binary @"$TMP/gt.txt" "$URL/api/v1/mot?kind=gt&name=gt" | json 'd["id"]')"
-check "baseline: sectors s1" s1 "$(c --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=sw" | json 'd["id"]')"
+check "baseline: sectors s1" s1 "$(c -H "Content-Type: application/geo+json" --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=sw" | json 'd["id"]')"
 SWEEP_BODY='{"videos": ["v1"], "sweep": {"mode": "grid", "axes": [{"param": "ncc_min", "min": 0.4, "max": 0.6, "steps": 2}]}}'
 r=$(post_json /api/v1/sweeps "$SWEEP_BODY")
 check "baseline: sweep" done "$(wait_job "$(echo "$r" | json 'd["job"]["id"]')")"
@@ -130,7 +131,7 @@ for name in del1 del2 del3; do
 done
 for _ in 1 2 3; do c --data-binary @"$TMP/graph.json" "$URL/api/v1/graphs" > /dev/null; done
 for _ in 1 2 3; do c --data-binary @"$TMP/gt.txt" "$URL/api/v1/mot?kind=gt" > /dev/null; done
-for _ in 1 2 3; do c --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors" > /dev/null; done
+for _ in 1 2 3; do c -H "Content-Type: application/geo+json" --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors" > /dev/null; done
 RUNS_BEFORE=$(ids runs runs)
 SWEEPS_BEFORE=$(ids sweeps sweeps)
 stop
@@ -363,7 +364,7 @@ mot_deleted() {
 kill_case "MOT delete between row and payload" store.row.remove.after_row del_mot mot_deleted
 
 # ---- sector sets ------------------------------------------------------------------------------------
-up_sectors() { c --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=crash"; }
+up_sectors() { c -H "Content-Type: application/geo+json" --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=crash"; }
 sectors_absent() {
   check "  sector sets listed" "s1 s2 s3 s4" "$(ids sectors sectors)"
   check "  no new sector files" "" "$(new_files sectors/)"

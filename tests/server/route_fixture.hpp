@@ -33,6 +33,9 @@ struct AdminRouter {
     return router.body_rule(method, path);
   }
   const std::vector<Router::Route>& routes() const { return router.routes(); }
+  const Router::Route* find(const std::string& method, const std::string& path, PathParams& params) const {
+    return router.find(method, path, params);
+  }
   /// The router itself, for a real server (its clients send `token` themselves).
   operator const Router&() const { return router; }
 };
