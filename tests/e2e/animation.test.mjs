@@ -82,7 +82,10 @@ async function mapShot(name) {
 function pixelsDiffering(a, b) {
   return page.evaluate(async ([x, y]) => {
     const load = async (b64) => {
-      const img = await createImageBitmap(await (await fetch(`data:image/png;base64,${b64}`)).blob());
+      // Decoded from bytes, not fetched from a data: URL, which the app's Content-Security-Policy
+      // (connect-src 'self') refuses.
+      const bytes = Uint8Array.from(atob(b64), (ch) => ch.charCodeAt(0));
+      const img = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
       const c = new OffscreenCanvas(img.width, img.height);
       const ctx = c.getContext('2d');
       ctx.drawImage(img, 0, 0);
