@@ -1114,6 +1114,9 @@ int main(int argc, char** argv) {
     }
     if (m("quick") == "1")
       md << "> **Quick (smoke) run**: smaller data and fewer repetitions; not representative.\n\n";
+    // A section re-measured after the whole run (its records replaced in results.jsonl; meta.txt's
+    // "rerun" line says which, when and at which commit), so that a reader never takes it for the same run.
+    if (meta.count("rerun")) md << "> **Re-run after the whole run**: " << m("rerun") << "\n\n";
     double other_pct = NAN;
     try {
       other_pct = std::stod(m("other_cpu_pct"));

@@ -159,11 +159,11 @@ TEST(Synth, CupsHideTheTeatsInTheirIntervalAndComeOff) {
     }
   }
   // Other scenarios attach none, except `occluded`, which puts one cup on one teat.
-  for (const FrameInterval& c : ToFSynth(options(Scenario::standard, 100, 1)).cup_intervals())
-    EXPECT_TRUE(c.empty());
+  // (Named, not temporaries: a range-for over a temporary's member would read a destroyed synth.)
+  const ToFSynth standard(options(Scenario::standard, 100, 1)), occluded(options(Scenario::occluded, 100, 1));
+  for (const FrameInterval& c : standard.cup_intervals()) EXPECT_TRUE(c.empty());
   int with_cup = 0;
-  for (const FrameInterval& c : ToFSynth(options(Scenario::occluded, 100, 1)).cup_intervals())
-    with_cup += !c.empty();
+  for (const FrameInterval& c : occluded.cup_intervals()) with_cup += !c.empty();
   EXPECT_EQ(with_cup, 1);
 }
 
