@@ -210,8 +210,8 @@ TEST_F(OwnershipTest, EveryKindRecordsItsOwnerAndOnlyTheOwnerOrAnAdminDeletesIt)
     // The owner is recorded and shown, in the item and in its collection (sector sets: in the list; their
     // GET is the GeoJSON itself).
     if (k.param == "sectors") {
-      for (const auto& m : body(call(kBob, "GET", "/api/v1/sectors"))["sectors"])
-        EXPECT_EQ(m["owner"], "alice");
+      const auto sets = body(call(kBob, "GET", "/api/v1/sectors"));  // named: outlives the loop
+      for (const auto& m : sets["sectors"]) EXPECT_EQ(m["owner"], "alice");
     } else {
       EXPECT_EQ(body(call(kBob, "GET", k.path(a)))["owner"], "alice");
     }

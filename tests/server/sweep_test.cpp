@@ -73,7 +73,8 @@ TEST_F(SweepTest, GridOverTwoVideosStoresEveryRun) {
   ASSERT_EQ(imp.status, 200) << imp.body;
   EXPECT_EQ(body(imp)["samples"], 12);
   EXPECT_EQ(body(imp)["sweep"], "s1");
-  for (const auto& in : body(imp)["inputs"])
+  const auto importance = body(imp);  // named: a range-for over a temporary's member reads freed memory
+  for (const auto& in : importance["inputs"])
     if (in["name"] != "ncc_min" && in["name"] != "n_lost") EXPECT_EQ(in["pearson"], nullptr) << in.dump();
 
   // The record survives a restart.
@@ -93,7 +94,8 @@ TEST_F(SweepTest, AFrameRangeMakesShortRuns) {
   ASSERT_EQ(r.status, 202) << r.body;
   EXPECT_EQ(body(r)["sweep"]["frames"], nlohmann::json({{"first_frame", 3}, {"frame_count", 5}}));
   ASSERT_EQ(app->jobs.wait(body(r)["job"]["id"]).state, "done");
-  for (const auto& id : body(get("/api/v1/sweeps/s1"))["runs"]) {
+  const auto sweep = body(get("/api/v1/sweeps/s1"));
+  for (const auto& id : sweep["runs"]) {
     EXPECT_EQ(body(get("/api/v1/runs/" + id.get<std::string>()))["summary"]["frames"], 5);
     const auto frames = body(get("/api/v1/runs/" + id.get<std::string>() + "/frames"));
     EXPECT_EQ(frames["frames"][0]["index"], 3) << frames.dump().substr(0, 300);
