@@ -34,20 +34,6 @@ std::shared_ptr<Dataset> corridor(const std::string& id) {
   return ds;
 }
 
-/// A small plane graph as node-link JSON: two clusters of 4 nodes, every node of one linked to every
-/// node of the other (16 edges that want to bundle).
-std::string two_clusters() {
-  nlohmann::json nodes = nlohmann::json::array(), links = nlohmann::json::array();
-  for (int i = 0; i < 4; ++i) {
-    nodes.push_back({{"id", "a" + std::to_string(i)}, {"x", 0.0}, {"y", 10.0 * i}});
-    nodes.push_back({{"id", "b" + std::to_string(i)}, {"x", 100.0}, {"y", 10.0 * i + 5}});
-  }
-  for (int i = 0; i < 4; ++i)
-    for (int k = 0; k < 4; ++k)
-      links.push_back({{"source", "a" + std::to_string(i)}, {"target", "b" + std::to_string(k)}});
-  return nlohmann::json{{"nodes", nodes}, {"links", links}}.dump();
-}
-
 /// Small and fast: every test bundle runs on the C++ reference in a 128 px image.
 const char* kFastParams = R"("params": {"size": 128, "iterations": 4, "h": 16, "spl": 4}, "backend": "cpu")";
 
@@ -57,9 +43,9 @@ class BundlesTest : public test_routes::RouteFixture {
     open(corridor("nl"));
     store->put(corridor("other"));
   }
-  /// Uploads two_clusters() and returns the graph id.
+  /// Uploads test_routes::two_clusters() and returns the graph id.
   std::string upload_graph() {
-    const Response r = send("POST", "/api/v1/graphs", two_clusters(), {{"name", "clusters"}});
+    const Response r = send("POST", "/api/v1/graphs", test_routes::two_clusters(), {{"name", "clusters"}});
     EXPECT_EQ(r.status, 201) << r.body;
     return body(r).at("id");
   }
@@ -84,7 +70,7 @@ class BundlesTest : public test_routes::RouteFixture {
 };
 
 TEST_F(BundlesTest, GraphUploadListGetDelete) {
-  const Response r = send("POST", "/api/v1/graphs", two_clusters(), {{"name", "clusters"}});
+  const Response r = send("POST", "/api/v1/graphs", test_routes::two_clusters(), {{"name", "clusters"}});
   ASSERT_EQ(r.status, 201) << r.body;
   const auto g = body(r);
   EXPECT_EQ(g["id"], "g1");
@@ -380,14 +366,14 @@ TEST_F(BundlesTest, GraphUploadErrors) {
                 "body: the upload is empty");
   expect_error(send("POST", "/api/v1/graphs", "\x89PNG\r\n\x1a\n not a graph"), 415, "unsupported_format",
                "input");
-  expect_error(send("POST", "/api/v1/graphs", two_clusters(), {{"format", "xml"}}), 400, "invalid_argument",
-               "format");
+  expect_error(send("POST", "/api/v1/graphs", test_routes::two_clusters(), {{"format", "xml"}}), 400,
+               "invalid_argument", "format");
   expect_error(send("POST", "/api/v1/graphs", R"({"nodes": [], "links": []})"), 422, "unprocessable",
                "input");
-  expect_detail(send("POST", "/api/v1/graphs", two_clusters(), {{"name", ""}}), 400, "invalid_argument",
-                "name", "name: 1 to 128 characters");
-  expect_detail(send("POST", "/api/v1/graphs", two_clusters(), {{"id", "x"}}), 400, "invalid_argument", "id",
-                "unknown query parameter 'id'");
+  expect_detail(send("POST", "/api/v1/graphs", test_routes::two_clusters(), {{"name", ""}}), 400,
+                "invalid_argument", "name", "name: 1 to 128 characters");
+  expect_detail(send("POST", "/api/v1/graphs", test_routes::two_clusters(), {{"id", "x"}}), 400,
+                "invalid_argument", "id", "unknown query parameter 'id'");
   // A streamed upload over kMaxGraphUploadBytes (a sparse file: no disk is written), removed afterwards.
   Request r;
   r.method = "POST", r.path = "/api/v1/graphs";

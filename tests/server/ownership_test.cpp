@@ -42,19 +42,6 @@ const char* kSectors = R"({"type": "FeatureCollection", "features": [
   {"type": "Feature", "properties": {"name": "S1", "lower_fl": 300, "upper_fl": 400},
    "geometry": {"type": "Polygon", "coordinates": [[[0.95, 44.9], [1.05, 44.9], [1.05, 45.1], [0.95, 45.1], [0.95, 44.9]]]}}]})";
 
-/// Two clusters of 4 nodes, every node of one linked to every node of the other.
-std::string two_clusters() {
-  nlohmann::json nodes = nlohmann::json::array(), links = nlohmann::json::array();
-  for (int i = 0; i < 4; ++i) {
-    nodes.push_back({{"id", "a" + std::to_string(i)}, {"x", 0.0}, {"y", 10.0 * i}});
-    nodes.push_back({{"id", "b" + std::to_string(i)}, {"x", 100.0}, {"y", 10.0 * i + 5}});
-  }
-  for (int i = 0; i < 4; ++i)
-    for (int k = 0; k < 4; ++k)
-      links.push_back({{"source", "a" + std::to_string(i)}, {"target", "b" + std::to_string(k)}});
-  return nlohmann::json{{"nodes", nodes}, {"links", links}}.dump();
-}
-
 /// A tracker log of `frames` frames in SEARCH, with the default parameters.
 std::string small_log(std::size_t frames) {
   tracker::TrackerLog log;
@@ -162,12 +149,13 @@ TEST_F(OwnershipTest, EveryKindRecordsItsOwnerAndOnlyTheOwnerOrAnAdminDeletesIt)
        [](const std::string& id) { return "/api/v1/datasets/" + id; }},
       {"graph", "graph",
        [&](const Principal& who) {
-         return created(call(who, "POST", "/api/v1/graphs", two_clusters()), "id");
+         return created(call(who, "POST", "/api/v1/graphs", test_routes::two_clusters()), "id");
        },
        [](const std::string& id) { return "/api/v1/graphs/" + id; }},
       {"bundle", "bundle",
        [&](const Principal& who) {
-         const std::string g = created(call(kAdmin, "POST", "/api/v1/graphs", two_clusters()), "id");
+         const std::string g =
+             created(call(kAdmin, "POST", "/api/v1/graphs", test_routes::two_clusters()), "id");
          const Response r = call(
              who, "POST", "/api/v1/bundles",
              R"({"source": {"graph": ")" + g +
@@ -286,7 +274,8 @@ TEST_F(OwnershipTest, IdsOfEveryStoreContinueAfterTheNewestIsDeletedAndTheServer
     std::function<std::string(const std::string&)> path;
   };
   const std::vector<Store> stores = {
-      {"graphs", [&] { return created(call(kAlice, "POST", "/api/v1/graphs", two_clusters()), "id"); },
+      {"graphs",
+       [&] { return created(call(kAlice, "POST", "/api/v1/graphs", test_routes::two_clusters()), "id"); },
        [](const std::string& id) { return "/api/v1/graphs/" + id; }},
       {"videos", [&] { return upload_pack(kAlice, 2); },
        [](const std::string& id) { return "/api/v1/videos/" + id; }},
@@ -301,7 +290,8 @@ TEST_F(OwnershipTest, IdsOfEveryStoreContinueAfterTheNewestIsDeletedAndTheServer
        [](const std::string& id) { return "/api/v1/sectors/" + id; }},
       {"bundles",
        [&] {
-         const std::string g = created(call(kAlice, "POST", "/api/v1/graphs", two_clusters()), "id");
+         const std::string g =
+             created(call(kAlice, "POST", "/api/v1/graphs", test_routes::two_clusters()), "id");
          const Response r = call(
              kAlice, "POST", "/api/v1/bundles",
              R"({"source": {"graph": ")" + g +
@@ -602,7 +592,7 @@ TEST_F(OwnershipTest, ProjectionsBeyondTheirWorkAreRefusedBeforeTheyStart) {
 }
 
 TEST_F(OwnershipTest, ABundleImageBeyondTheLimitIsRefusedBeforeDrawing) {
-  const std::string g = created(call(kAlice, "POST", "/api/v1/graphs", two_clusters()), "id");
+  const std::string g = created(call(kAlice, "POST", "/api/v1/graphs", test_routes::two_clusters()), "id");
   const Response b =
       call(kAlice, "POST", "/api/v1/bundles",
            R"({"source": {"graph": ")" + g +

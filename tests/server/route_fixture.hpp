@@ -40,6 +40,20 @@ struct AdminRouter {
   operator const Router&() const { return router; }
 };
 
+/// A small plane graph as node-link JSON: two clusters of 4 nodes, every node of one linked to every
+/// node of the other (16 edges that want to bundle).
+inline std::string two_clusters() {
+  nlohmann::json nodes = nlohmann::json::array(), links = nlohmann::json::array();
+  for (int i = 0; i < 4; ++i) {
+    nodes.push_back({{"id", "a" + std::to_string(i)}, {"x", 0.0}, {"y", 10.0 * i}});
+    nodes.push_back({{"id", "b" + std::to_string(i)}, {"x", 100.0}, {"y", 10.0 * i + 5}});
+  }
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k)
+      links.push_back({{"source", "a" + std::to_string(i)}, {"target", "b" + std::to_string(k)}});
+  return nlohmann::json{{"nodes", nodes}, {"links", links}}.dump();
+}
+
 class RouteFixture : public ::testing::Test {
  protected:
   /// An admin token in tmp/store/tokens.json, which every App the tests open over tmp/store reads.
