@@ -88,12 +88,15 @@ clean:
 # One checking build, $(ASAN_BUILD_DIR): clang, every library and test with AddressSanitizer and
 # UndefinedBehaviorSanitizer (undefined behaviour fatal) plus libFuzzer's coverage instrumentation, and the
 # harnesses of tests/fuzz. `make test-asan` runs the C++ tests (ctest) there; `make fuzz` runs every
-# harness for FUZZ_SECONDS; `make fuzz-long` runs every harness to FUZZ_RUNS executions, one at a time at
-# the lowest priority, and records the figures in tests/fuzz/long_run.jsonl (BENCHMARKS.md's fuzzing
-# section). .ci/run runs test-asan and fuzz after `make test`.
+# harness for FUZZ_SECONDS; `make fuzz-long` runs one segment of the long run: every harness short of
+# FUZZ_RUNS executions in all, for at most FUZZ_LONG_SECONDS each, one at a time at the lowest priority,
+# resumed from its kept corpus (ASAN_BUILD_DIR/fuzz-long/<harness>/corpus), and appends the segment to
+# tests/fuzz/long_run.jsonl (BENCHMARKS.md's fuzzing section adds the segments up); run it again until every
+# harness reached FUZZ_RUNS. .ci/run runs test-asan and fuzz after `make test`.
 ASAN_BUILD_DIR ?= build-asan
 FUZZ_SECONDS ?= 60
 FUZZ_RUNS ?= 10000000
+FUZZ_LONG_SECONDS ?= 1200
 FUZZ_JOBS ?= $(JOBS)
 # Leak suppressions (third-party allocations only, each explained in the file); UBSan stops at the first
 # report; ASan aborts so that ctest sees the failure. use_sigaltstack=0: with its own alternate signal stack
@@ -112,7 +115,8 @@ deps-fuzz: deps-test
 asan-configure: deps-fuzz
 	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" \
-	  -DTRAILSCOPE_FUZZ=ON -DTRAILSCOPE_BUILD_BENCH=OFF
+	  -DTRAILSCOPE_FUZZ=ON -DTRAILSCOPE_BUILD_BENCH=OFF \
+	  $(shell command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 # The C++ tests under ASan + UBSan (gtest discovery runs the test binaries at build time: same options).
 test-asan: asan-configure
@@ -127,4 +131,5 @@ fuzz: fuzz-build
 	bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --seconds $(FUZZ_SECONDS) --jobs $(FUZZ_JOBS)
 
 fuzz-long: fuzz-build
-	nice -n 19 bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --runs $(FUZZ_RUNS) --out tests/fuzz/long_run.jsonl
+	nice -n 19 bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --long --goal $(FUZZ_RUNS) --max-seconds $(FUZZ_LONG_SECONDS) \
+	  --out tests/fuzz/long_run.jsonl

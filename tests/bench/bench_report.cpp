@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 #include <tuple>
 
@@ -1042,15 +1043,33 @@ int main(int argc, char** argv) {
     }
 
     // ---- fuzzing: the long run of every libFuzzer harness (tests/fuzz, `make fuzz-long`) ----------------
-    // Not measured by this script: `make fuzz-long` writes tests/fuzz/long_run.jsonl (one line per harness,
-    // tests/fuzz/run.sh), which is committed and shown here when present (--fuzz-results overrides the path).
+    // Not measured by this script: each `make fuzz-long` appends one segment per harness to
+    // tests/fuzz/long_run.jsonl (tests/fuzz/run.sh --long), which is committed and shown here when present
+    // (--fuzz-results overrides the path). A harness's figures add its segments up; coverage, corpus and
+    // outcome are those of its latest segment (the kept corpus carries the coverage from one to the next).
     {
       const std::string path = a.has("fuzz-results") ? a.get("fuzz-results") : "tests/fuzz/long_run.jsonl";
       std::ifstream in(path);
-      std::vector<json> runs;
+      struct Harness {
+        double execs = 0, wall = 0, cpu = 0, crash_inputs = 0;
+        std::size_t segments = 0;
+        json last;
+        std::string first_start;
+      };
+      std::map<std::string, Harness> harnesses;
       for (std::string line; std::getline(in, line);)
-        if (!line.empty() && line[0] == '{') runs.push_back(json::parse(line));
-      if (!runs.empty()) {
+        if (!line.empty() && line[0] == '{') {
+          const json r = json::parse(line);
+          if (!r.contains("segment")) continue;  // not a segment of the resumable long run
+          Harness& h = harnesses[r.value("harness", "")];
+          h.execs += r.value("executions", 0.0);
+          h.wall += r.value("wall_s", 0.0);
+          h.cpu += r.value("cpu_s", 0.0);
+          h.crash_inputs += r.value("crash_inputs", 0.0);
+          if (h.segments++ == 0) h.first_start = r.value("started", "");
+          h.last = r;
+        }
+      if (!harnesses.empty()) {
         constexpr double kGoal = 10'000'000;  // executions per harness
         const std::filesystem::path regressions = std::filesystem::path(path).parent_path() / "regressions";
         const auto fixed = [&](const std::string& h) {
@@ -1059,41 +1078,62 @@ int main(int argc, char** argv) {
           for (std::filesystem::directory_iterator it(regressions / h, ec), end; !ec && it != end; ++it) ++n;
           return n;
         };
-        std::size_t reached = 0, open = 0, total_fixed = 0;
+        std::size_t reached = 0, open = 0, total_fixed = 0, found = 0, most_segments = 0;
+        std::string first, latest;
         std::ostringstream rows;
-        for (const json& r : runs) {
-          const std::string h = r.value("harness", "");
-          const double execs = r.value("executions", 0.0);
-          const bool ok = r.value("exit", 1) == 0;
-          reached += execs >= kGoal;
+        for (const auto& [h, x] : harnesses) {
+          const bool ok = x.last.value("exit", 1) == 0;
+          reached += x.execs >= kGoal;
           open += !ok;
+          found += static_cast<std::size_t>(x.crash_inputs);
           total_fixed += fixed(h);
-          rows << "| `" << h << "` | " << grouped(execs) << " | " << (execs >= kGoal ? "yes" : "**no**")
-               << " | " << grouped(r.value("exec_per_s", 0.0)) << " | " << grouped(r.value("cov", 0.0))
-               << " / " << grouped(r.value("ft", 0.0)) << " | " << grouped(r.value("corpus", 0.0)) << " | "
-               << grouped(r.value("wall_s", 0.0)) << " | " << fixed(h) << " | "
-               << (ok ? std::string("clean") : "**" + r.value("outcome", std::string("failed")) + "**")
+          most_segments = std::max(most_segments, x.segments);
+          if (first.empty() || (!x.first_start.empty() && x.first_start < first)) first = x.first_start;
+          latest = std::max(latest, x.last.value("started", std::string()));
+          rows << "| `" << h << "` | " << grouped(x.execs) << " | " << (x.execs >= kGoal ? "yes" : "**no**")
+               << " | " << x.segments << " | " << grouped(x.wall) << " | " << grouped(x.cpu) << " | "
+               << grouped(x.last.value("exec_per_s", 0.0)) << " | "
+               << (x.cpu > 0 ? grouped(x.execs / x.cpu) : std::string("–")) << " | "
+               << grouped(x.last.value("cov", 0.0)) << " / " << grouped(x.last.value("ft", 0.0)) << " | "
+               << grouped(x.last.value("corpus", 0.0)) << " | " << grouped(x.crash_inputs) << " | "
+               << fixed(h) << " | "
+               << (ok ? std::string("clean") : "**" + x.last.value("outcome", std::string("failed")) + "**")
                << " |\n";
         }
         body << "## Fuzzing: the long run\n\n"
                 "Each libFuzzer harness of `tests/fuzz` (one per parser; clang, ASan + UBSan, libFuzzer "
-                "coverage) run by `make fuzz-long` until "
+                "coverage) is run towards "
              << grouped(kGoal)
-             << " executions, one harness at a time at `nice -n 19`, from the seed corpus of "
-                "`tests/fuzz/seeds.sh` (cuts of the shared data) and the committed seeds. Recorded in `"
+             << " executions in segments: each `make fuzz-long` runs every harness still short of the goal "
+                "for at most `FUZZ_LONG_SECONDS` (one at a time, `nice -n 19`), resumed from the corpus it "
+                "kept from its earlier segments (`build-asan/fuzz-long/<harness>/corpus`, outside git; the "
+                "first segment starts from the seed corpus of `tests/fuzz/seeds.sh`, cuts of the shared "
+                "data, and the committed seeds), and appends one line per harness to `"
              << path
-             << "` by `tests/fuzz/run.sh`, not in this benchmark run; a harness stopped before the goal "
-                "(the machine's time ran out) shows the executions it reached. cov / ft: libFuzzer's "
-                "covered edges / features at the end. Regressions: inputs kept in "
-                "`tests/fuzz/regressions/<harness>/` (ctest replays them) — crashes the fuzzer found, fixed "
-                "in "
-                "the parser, and reproducers of the same fault written for sibling parsers.\n\n"
-                "| harness | executions | ≥ 10 M | exec/s | cov / ft | corpus | wall s | regressions | "
-                "outcome "
-                "|\n|---|---|---|---|---|---|---|---|---|\n"
+             << "` (`tests/fuzz/run.sh --long`), not in this benchmark run. Executions, segments, wall "
+                "time and CPU time (user + system) add the segments up (a segment counts the replay of the "
+                "kept corpus at its start too); exec/s (over the wall time, as libFuzzer reports it), cov / "
+                "ft (libFuzzer's covered edges / features) and corpus are those at the end of the latest "
+                "segment; exec / CPU s is over all segments, and is what the harness costs: at `nice -n 19` "
+                "on a busy machine the fuzzer gets a small share of a core, which exec/s shows and exec / "
+                "CPU s does not. Crash inputs: inputs the fuzzer wrote as crashes, leaks, "
+                "timeouts or out-of-memory in any segment; a harness whose latest segment failed has an "
+                "open crash. Regressions: inputs kept in `tests/fuzz/regressions/<harness>/` (ctest replays "
+                "them) — crashes the fuzzer found, fixed in the parser, and reproducers of the same fault "
+                "written for sibling parsers. Segments from "
+             << (first.empty() ? std::string("?") : first) << " to "
+             << (latest.empty() ? std::string("?") : latest)
+             << ".\n\n"
+                "| harness | executions | ≥ 10 M | segments | wall s | CPU s | exec/s | exec / CPU s | cov / "
+                "ft | "
+                "corpus | crash inputs | regressions | outcome "
+                "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
              << rows.str() << "\n"
-             << reached << " of " << runs.size() << " harnesses reached " << grouped(kGoal) << " executions; "
-             << open << " harness(es) with an open crash; " << total_fixed
+             << reached << " of " << harnesses.size() << " harnesses reached " << grouped(kGoal)
+             << " executions ("
+             << (reached == harnesses.size() ? "the long run is done" : "the long run goes on")
+             << ", at most " << most_segments << " segment(s) per harness); " << found
+             << " crash input(s) found; " << open << " harness(es) with an open crash; " << total_fixed
              << " regression input(s) kept.\n\n";
       }
     }
