@@ -3,6 +3,5 @@
 #include "ingest_harness.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static trailscope::fuzz::InputFile file(".opensky_csv");
-  return trailscope::fuzz::ingest_one(data, size, trailscope::ingest::Format::opensky_csv, file);
+  return trailscope::fuzz::ingest_one(data, size, trailscope::ingest::Format::opensky_csv);
 }

@@ -3,6 +3,5 @@
 #include "ingest_harness.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static trailscope::fuzz::InputFile file(".readsb_trace");
-  return trailscope::fuzz::ingest_one(data, size, trailscope::ingest::Format::readsb_trace, file);
+  return trailscope::fuzz::ingest_one(data, size, trailscope::ingest::Format::readsb_trace);
 }

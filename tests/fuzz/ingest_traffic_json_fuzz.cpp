@@ -3,6 +3,5 @@
 #include "ingest_harness.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static trailscope::fuzz::InputFile file(".traffic_json");
-  return trailscope::fuzz::ingest_one(data, size, trailscope::ingest::Format::traffic_json, file);
+  return trailscope::fuzz::ingest_one(data, size, trailscope::ingest::Format::traffic_json);
 }

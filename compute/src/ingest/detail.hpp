@@ -23,9 +23,12 @@ namespace trailscope::ingest::detail {
 
 // --- byte source ---------------------------------------------------------------------------------------
 
-/// Sequential decompressed bytes of a plain or gzip file. The constructor reads the head synchronously
-/// (for detection); start() then launches a helper thread that decompresses ahead while the caller
-/// parses, so inflate and parsing overlap on two cores.
+/// Sequential decompressed bytes of a plain or gzip input: a file, or bytes already in memory (an upload
+/// held in a buffer, a fuzzer's input). Both go through the same inflater and the same block cutting; they
+/// differ only in where the compressed bytes come from. The constructor reads the head synchronously (for
+/// detection). For a file, start() then launches a helper thread that decompresses ahead while the caller
+/// parses, so inflate and parsing overlap on two cores; bytes in memory are cut into blocks on the caller's
+/// thread when next() asks (no thread, and blocks no larger than the input needs).
 class ByteSource {
  public:
   /// Bytes per block handed to the parser (a block grows beyond this only to hold one very long line).
@@ -34,12 +37,16 @@ class ByteSource {
   /// Throws Error(not_found, "path") when the file is missing, Error(internal, "path") when unreadable,
   /// Error(unprocessable, "file") when its gzip stream is corrupt within the head.
   explicit ByteSource(const std::string& path);
+  /// Reads `bytes` (not copied: they must outlive the source); `name` stands for the path in messages.
+  /// Throws Error(unprocessable, "file") when its gzip stream is corrupt within the head.
+  ByteSource(std::string_view bytes, std::string name);
   ~ByteSource();
   ByteSource(const ByteSource&) = delete;
   ByteSource& operator=(const ByteSource&) = delete;
 
-  /// The first decompressed bytes (at most kDetectHeadBytes; all of a shorter file).
+  /// The first decompressed bytes (at most kDetectHeadBytes; all of a shorter input).
   std::string_view head() const { return head_; }
+  /// The file's path, or the name given with bytes in memory.
   const std::string& path() const { return path_; }
 
   /// Starts reading ahead. With `line_aligned`, every block but the last ends with '\n', so a line never
@@ -49,7 +56,7 @@ class ByteSource {
   /// The next block, starting with the head's bytes; empty at the end. The view is valid until the next
   /// call. Rethrows, in order, the read error that ended the stream (truncated gzip, I/O error).
   std::string_view next();
-  /// Fraction of the file (compressed bytes) consumed by the blocks returned so far, in [0, 1].
+  /// Fraction of the input (compressed bytes) consumed by the blocks returned so far, in [0, 1].
   double fraction() const { return file_size_ ? std::min(1.0, double(offset_) / double(file_size_)) : 1.0; }
 
  private:
@@ -57,14 +64,31 @@ class ByteSource {
     std::string data;
     std::uint64_t offset = 0;  // compressed bytes consumed once this block was read
   };
-  void produce(bool line_aligned);
-  // Reads up to `n` bytes into `dst`; returns 0 at the end. Throws on a gzip or I/O error.
+  void open_inflater();  // after the input is set: looks for the gzip magic, reads the head
+  void produce();        // the helper thread: fill() until the end
+  // Cuts the next block into `buf` (starting with carry_); returns whether the input is exhausted.
+  bool fill(std::string& buf);
+  // Reads up to `n` decompressed bytes into `dst`; returns 0 at the end. Throws on a gzip or I/O error.
   std::size_t read_some(char* dst, std::size_t n);
+  // Makes at least `want` raw (compressed) bytes available at in_ when the input has them; returns how
+  // many are available.
+  std::size_t raw_available(std::size_t want);
 
   std::string path_;
-  void* gz_ = nullptr;  // gzFile; void* keeps zlib.h out of this header
+  int fd_ = -1;                 // the file, or -1 for bytes in memory
+  std::string_view in_;         // raw bytes not yet consumed (into raw_ for a file, into the caller's bytes)
+  std::string raw_;             // a file's read buffer
+  bool raw_eof_ = false;        // the file has no more raw bytes
+  void* zs_ = nullptr;          // z_stream while inside a gzip member; void* keeps zlib.h out of this header
+  bool gzip_ = false;           // the input starts with the gzip magic
+  bool member_done_ = false;    // the current gzip member ended (the next may follow)
+  std::uint64_t consumed_ = 0;  // raw bytes consumed so far
   std::uint64_t file_size_ = 0, offset_ = 0;
+  std::size_t block_bytes_ = kBlockBytes;
   std::string head_;
+  std::string carry_;  // bytes of a line cut at the end of the previous block
+  bool line_aligned_ = true;
+  bool eof_of_gzip_ = false;  // the last gzip member ended and no other follows
 
   std::thread thread_;
   std::mutex mutex_;

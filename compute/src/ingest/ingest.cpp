@@ -1,4 +1,5 @@
-// ingest_file(): open, detect, dispatch to the reader, build the TrailSet, fill the report.
+// ingest_file() and ingest_bytes(): open, detect, dispatch to the reader, build the TrailSet, fill the
+// report.
 #include "trailscope/ingest/ingest.hpp"
 
 #include <chrono>
@@ -24,14 +25,19 @@ nlohmann::json IngestReport::to_json() const {
           {"seconds", seconds}};
 }
 
-TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestReport* report) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+void check_options(const IngestOptions& opts) {
   if (!(opts.gap_seconds > 0))
     throw invalid_argument("gap_seconds",
                            "gap_seconds must be > 0 (seconds), got " + std::to_string(opts.gap_seconds));
   if (opts.cancel) opts.cancel->throw_if_cancelled();
+}
 
-  detail::ByteSource src(path);
+// Both entry points: detect, dispatch to the reader, build the TrailSet, fill the report.
+TrailSet ingest_source(detail::ByteSource& src, const IngestOptions& opts, IngestReport* report,
+                       std::chrono::steady_clock::time_point start) {
+  const std::string& path = src.path();
   IngestReport rep;
   rep.format = opts.format ? *opts.format : detect_format(src.head());
   TrailSetBuilder builder;
@@ -77,6 +83,23 @@ TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestR
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (report) *report = std::move(rep);
   return set;
+}
+
+}  // namespace
+
+TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(opts);
+  detail::ByteSource src(path);
+  return ingest_source(src, opts, report, start);
+}
+
+TrailSet ingest_bytes(std::string_view bytes, const std::string& name, const IngestOptions& opts,
+                      IngestReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(opts);
+  detail::ByteSource src(bytes, name);
+  return ingest_source(src, opts, report, start);
 }
 
 }  // namespace trailscope::ingest

@@ -1,6 +1,7 @@
 #pragma once
 // Reading a trail file (plain or gzip) into a TrailSet, with a report of what was accepted and why rows
-// were rejected. One entry point, ingest_file(); the format is detected from content unless given.
+// were rejected. One entry point, ingest_file(), and its twin for bytes already in memory, ingest_bytes();
+// the format is detected from content unless given.
 //
 // Unit normalisation (everything ends up SI: Unix seconds, degrees WGS84, metres, m/s):
 //  - opensky_csv: already SI. time → t (s); lat, lon (deg); velocity → speed (m/s); heading → track (deg);
@@ -37,6 +38,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -99,5 +101,13 @@ struct IngestOptions {
 ///  - payload_too_large: more than 2^32 - 1 points (TrailSetBuilder).
 /// `report`, when given, is filled on success and left untouched when an exception is thrown.
 TrailSet ingest_file(const std::string& path, const IngestOptions& opts = {}, IngestReport* report = nullptr);
+
+/// ingest_file() over bytes already in memory (plain or gzip, as a file's content): the same inflater, the
+/// same readers and the same errors, with `name` where the path would be quoted in messages. Nothing is
+/// written to disk and no thread is started (the bytes are cut into blocks on the caller's thread), which
+/// suits small inputs (a fuzzer's, a test's). Throws what ingest_file() throws, except not_found and the
+/// errors about opening or reading a path.
+TrailSet ingest_bytes(std::string_view bytes, const std::string& name, const IngestOptions& opts = {},
+                      IngestReport* report = nullptr);
 
 }  // namespace trailscope::ingest
