@@ -72,7 +72,8 @@ ByteSource::ByteSource(std::string_view bytes, std::string name) : path_(std::mo
 void ByteSource::open_inflater() {
   gzip_ = gzip_magic(in_.substr(0, raw_available(2)));
   try {
-    head_.resize(kDetectHeadBytes);
+    // A plain input in memory has a known size: a head no longer than it (no 64 KiB per small input).
+    head_.resize(fd_ < 0 && !gzip_ ? std::min(kDetectHeadBytes, in_.size()) : kDetectHeadBytes);
     std::size_t have = 0;
     while (have < head_.size()) {
       const std::size_t n = read_some(head_.data() + have, head_.size() - have);
