@@ -32,7 +32,7 @@ inline void refuse(const Error& e) {
   }
 }
 
-/// A file holding one input, for parsers whose entry point reads a path (ingest_file, DepthVideoReader).
+/// A file holding one input, for a parser whose entry point reads a path (DepthVideoReader).
 /// One per process, rewritten for every input, in /dev/shm when it exists (no disk writes at thousands of
 /// inputs per second). `suffix` matters only where the parser looks at the extension.
 class InputFile {
