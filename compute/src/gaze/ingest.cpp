@@ -948,7 +948,9 @@ GazeDataset read_gaze(std::string_view content, const GazeIngestOptions& options
   std::erase_if(c.ds.recordings, [](const Recording& r) { return r.size() == 0; });
   if (c.ds.recordings.empty())
     throw Error(Error::Kind::unprocessable, "file", std::string(to_string(format)) + " file without samples");
-  for (Recording& r : c.ds.recordings) {
+  for (std::size_t k = 0; k < c.ds.recordings.size(); ++k) {
+    Recording& r = c.ds.recordings[k];
+    if (r.trial.empty()) r.trial = std::to_string(k + 1);  // files without trials: their one recording is "1"
     if (!options.participant.empty()) r.participant = options.participant;
     if (!options.stimulus.empty()) r.stimulus = options.stimulus;
   }

@@ -72,8 +72,8 @@ struct GazeEvent {
 struct Recording {
   std::string participant;  ///< from the file (SMI "Subject") or the caller; may be empty
   std::string stimulus;     ///< from the file (SMI "Scene Image", EyeLink "!V IMGLOAD") or the caller
-  std::string trial;        ///< block/trial id within the file ("1", the EyeLink TRIALID text, ...)
-  std::string format;       ///< the reader that produced it (ingest.hpp to_string(GazeFormat))
+  std::string trial;   ///< block/trial id within the file (the EyeLink TRIALID text, ...; else "1", "2", ...)
+  std::string format;  ///< the reader that produced it (ingest.hpp to_string(GazeFormat))
   Units units = Units::px;
   ScreenGeometry geometry;
   double rate_hz = 0;  ///< nominal sampling rate from the file; 0 when the file does not say
