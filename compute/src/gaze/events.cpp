@@ -146,6 +146,13 @@ std::vector<EventType> adaptive(const Recording& r, const std::vector<double>& x
                                 double& onset_out) {
   const std::size_t n = r.size();
   const double dt = median_step(r.t_ms);
+  // Both windows in samples are bounded: a recording with a tiny time step must not make them huge.
+  for (const auto& [ms, name] : {std::pair{p.filter_window_ms, "filter_window_ms"},
+                                 std::pair{p.glissade_window_ms, "glissade_window_ms"}})
+    if (ms / dt > double(limits::kMaxGazeWindowSamples))
+      throw invalid_argument(name, std::string(name) + " of " + format_double(ms) + " ms holds more than " +
+                                       "limits::kMaxGazeWindowSamples (" +
+                                       std::to_string(limits::kMaxGazeWindowSamples) + ") samples");
   const std::size_t m = std::max<std::size_t>(1, std::size_t(std::lround(p.filter_window_ms / dt / 2)));
   std::vector<double> v = sg_velocity(r, x, y, m, dt);
   std::vector<EventType> l(n, EventType::none);

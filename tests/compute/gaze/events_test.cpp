@@ -195,6 +195,32 @@ TEST(GazeEvents, ParameterErrors) {
   } catch (const Error& e) {
     EXPECT_EQ(e.param(), "geometry");
   }
+  // Windows in samples are bounded (limits::kMaxGazeWindowSamples = 100,000): 1 µs steps make the
+  // 1000 ms Savitzky-Golay window 1,000,000 samples and the 10 s I-DT window 10,000,000.
+  Recording fine;
+  fine.units = Units::deg;
+  fine.t_ms = {0, 0.001, 0.002}, fine.x = {0, 0, 0}, fine.y = {0, 0, 0}, fine.valid = {1, 1, 1};
+  EventParams a;
+  a.method = Method::adaptive;
+  a.adaptive.filter_window_ms = 1000;
+  try {
+    detect_events(fine, a);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.param(), "filter_window_ms");
+    EXPECT_STREQ(
+        e.what(),
+        "filter_window_ms of 1000 ms holds more than limits::kMaxGazeWindowSamples (100000) samples");
+  }
+  EventParams i;
+  i.method = Method::idt;
+  i.idt.min_duration_ms = 10000;
+  try {
+    detect_events(fine, i);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.param(), "min_duration_ms");
+  }
   try {
     parse_method("i-vt");
     FAIL();

@@ -84,7 +84,8 @@ struct Detection {
 
 /// Labels every sample of `r`. Throws Error(invalid_argument, "geometry", ...) when the recording is in
 /// px without a physical geometry, validate()'s errors, and Error(invalid_argument, "min_duration_ms",
-/// ...) when an I-DT window would exceed limits::kMaxGazeWindowSamples samples. Samples need not be
+/// ...) when an I-DT window would exceed limits::kMaxGazeWindowSamples samples (adaptive: the same for
+/// "filter_window_ms" and "glissade_window_ms"). Samples need not be
 /// equally spaced (time steps are used as they are); the Savitzky-Golay window uses the median step.
 Detection detect_events(const Recording& r, const EventParams& p);
 
