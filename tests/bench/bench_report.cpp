@@ -1143,15 +1143,28 @@ int main(int argc, char** argv) {
                 "Holmqvist 2010), comes close to the coders there. In the Lund data the coders also mark "
                 "post-saccadic oscillations (PSO), a class I-VT and I-DT do not have: they split those "
                 "samples "
-                "between saccade and fixation, which lowers both kappas; and the coders call blink more than "
-                "the "
-                "samples the tracker lost (the off-screen excursions around a blink), while every detector "
-                "calls "
-                "blink exactly the invalid samples. Coder samples inside fixations that the tracker lost: "
+                "between saccade and fixation, which lowers both kappas; and the coders call blink more "
+                "samples than the tracker lost (the off-screen excursions around a blink too), while the "
+                "detectors call blink only the invalid samples (and the adaptive one its noise samples). "
+                "Coder samples inside fixations that the tracker lost: "
              << pct(dh, "invalid_share") << " (Hooge), " << pct(dl, "invalid_share") << " (Lund)"
              << (dbl(dh, "invalid_share") < 0.01 && dbl(dl, "invalid_share") < 0.01
                      ? ", so lost samples do not explain the difference.\n\n"
                      : ".\n\n");
+      }
+      // The adaptive detector per Lund recording: where its thresholds climb, its fixations suffer.
+      if (!find("gaze_adaptive").empty()) {
+        body << "The adaptive detector's thresholds per Lund recording (peak PT and onset, deg/s) and its "
+                "fixation kappa against MN there. PT iterates to mean + 6 sd of the speeds below it; where "
+                "fast samples inside fixations (tracker spikes, the off-screen excursions around blinks) "
+                "widen the spread, it climbs far above a saccade's onset speed, the onset threshold with it, "
+                "and saccade flanks and PSO become fixation:\n\n"
+                "| recording | PT | onset | fixation kappa vs MN |\n|---|---|---|---|\n";
+        for (const json* r : find("gaze_adaptive"))
+          body << "| " << str(r, "recording") << " | " << num(dbl(r, "peak_threshold_deg_s"), 1) << " | "
+               << num(dbl(r, "onset_threshold_deg_s"), 1) << " | " << k3(dbl(r, "fixation_kappa_vs_MN"))
+               << " |\n";
+        body << "\n";
       }
     }
 

@@ -13,6 +13,9 @@
 //     {"bench":"gaze_kappa", "dataset":"lund", "method", "vs", "type", "kappa"}   (method "coders": MN vs RA)
 //     {"bench":"gaze_kappa", "dataset":"hooge", "method", "vs", "type":"fixation", "kappa"}
 //     {"bench":"gaze_diag", "dataset", ...}: see diagnostics()
+//     {"bench":"gaze_adaptive", "dataset":"lund", "recording", "peak_threshold_deg_s",
+//     "onset_threshold_deg_s",
+//      "fixation_kappa_vs_MN"}
 //         (method "coders": the coder vs each other coder, mean over the 11 pairs)
 #include <filesystem>
 #include <fstream>
@@ -221,6 +224,17 @@ int main(int argc, char** argv) {
         for (const auto& r : lund) {
           const auto d = gz::detect_events(r, p);
           det.insert(det.end(), d.labels.begin(), d.labels.end());
+          std::vector<ET> mn;
+          for (const auto& [name, labels] : r.annotations)
+            if (name == "label_mn")
+              for (int l : labels) mn.push_back(static_cast<ET>(l));
+          if (m == gz::Method::adaptive)  // the thresholds it settled on, per recording
+            emit({{"bench", "gaze_adaptive"},
+                  {"dataset", "lund"},
+                  {"recording", r.participant},
+                  {"peak_threshold_deg_s", d.peak_threshold_deg_s},
+                  {"onset_threshold_deg_s", d.onset_threshold_deg_s},
+                  {"fixation_kappa_vs_MN", gz::cohen_kappa(d.labels, mn, ET::fixation)}});
         }
         for (const char* c : {"MN", "RA"})
           for (ET t : types)

@@ -156,8 +156,21 @@ std::vector<EventType> adaptive(const Recording& r, const std::vector<double>& x
   const std::size_t m = std::max<std::size_t>(1, std::size_t(std::lround(p.filter_window_ms / dt / 2)));
   std::vector<double> v = sg_velocity(r, x, y, m, dt);
   std::vector<EventType> l(n, EventType::none);
+  // Noise (Nystrom and Holmqvist: beyond what an eye can do): speed over max_velocity, or an acceleration
+  // (central difference of the speed) over max_acceleration; such samples are left out like lost ones.
+  std::vector<bool> noise(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!r.valid[i] || !(v[i] <= p.max_velocity_deg_s)) {
+      noise[i] = true;
+      continue;
+    }
+    const std::size_t a = i > 0 && std::isfinite(v[i - 1]) ? i - 1 : i;
+    const std::size_t b = i + 1 < n && std::isfinite(v[i + 1]) ? i + 1 : i;
+    if (a != b && std::abs(v[b] - v[a]) / (double(b - a) * dt / 1000.0) > p.max_acceleration_deg_s2)
+      noise[i] = true;
+  }
   for (std::size_t i = 0; i < n; ++i)
-    if (!r.valid[i] || !(v[i] <= p.max_velocity_deg_s)) l[i] = EventType::blink, v[i] = kNaN;
+    if (noise[i]) l[i] = EventType::blink, v[i] = kNaN;
   // Peak threshold: PT <- mean + 6 sd of the velocities below PT, until it moves < 1 deg/s.
   double pt = p.initial_peak_threshold_deg_s, mean = 0, sd = 0;
   for (int it = 0; it < 100; ++it) {
@@ -245,6 +258,7 @@ void validate(const EventParams& p) {
   in_range(p.adaptive.min_fixation_ms, 0, 10000, false, "min_fixation_ms");
   in_range(p.adaptive.glissade_window_ms, 0, 1000, false, "glissade_window_ms");
   in_range(p.adaptive.max_velocity_deg_s, 0, 10000, true, "max_velocity_deg_s");
+  in_range(p.adaptive.max_acceleration_deg_s2, 0, 10000000, true, "max_acceleration_deg_s2");
 }
 
 std::vector<double> point_velocity(const std::vector<double>& t, const std::vector<double>& x,

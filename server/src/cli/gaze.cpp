@@ -186,6 +186,9 @@ void add_gaze_events(CLI::App* parent) {
   cmd->add_option("--glissade-window-ms", e->p.adaptive.glissade_window_ms,
                   "adaptive: window after a saccade for glissades (ms)")
       ->capture_default_str();
+  cmd->add_option("--max-acceleration", e->p.adaptive.max_acceleration_deg_s2,
+                  "adaptive: samples whose speed changes faster are noise (deg/s^2)")
+      ->capture_default_str();
   cmd->add_option("--max-velocity", e->p.adaptive.max_velocity_deg_s,
                   "adaptive: faster samples are noise (deg/s)")
       ->capture_default_str();

@@ -137,6 +137,22 @@ TEST(GazeEvents, InvalidSamplesAreBlinksInEveryMethod) {
   }
 }
 
+TEST(GazeEvents, AdaptiveTreatsGlitchesAsNoise) {
+  // One sample 50 deg off in the first fixation: no eye moves there and back in 4 ms. The speeds around it
+  // (Savitzky-Golay, 11 samples) exceed 1000 deg/s or change by more than 100,000 deg/s^2, so they are
+  // noise (blink), not a saccade; I-VT, with no such rule, calls the glitch a saccade.
+  std::vector<ET> truth;
+  Recording r = constructed(truth);
+  r.x[50] += 50;
+  EventParams p;
+  p.method = Method::adaptive;
+  const Detection d = detect_events(r, p);
+  for (std::size_t i = 40; i <= 60; ++i) EXPECT_NE(d.labels[i], ET::saccade) << i;
+  EXPECT_EQ(d.labels[45], ET::blink);
+  EXPECT_EQ(d.labels[55], ET::blink);
+  EXPECT_EQ(detect_events(r, EventParams{}).labels[49], ET::saccade);
+}
+
 TEST(GazeEvents, MinimumFixationDurationDropsShortRuns) {
   std::vector<ET> truth;
   Recording r = constructed(truth);

@@ -20,7 +20,8 @@
 //    falling, walking back) to the offset (below 0.7 onset + 0.3 local noise threshold and falling);
 //    post-saccadic oscillations (glissades, EventType::pso) are velocity above the offset threshold within
 //    the glissade window after a saccade; what remains in runs of at least min_fixation_ms is fixation.
-//    Samples above the physiological maximum velocity are treated as invalid (blink), as in the paper.
+//    Samples above the physiological maximum velocity or acceleration are noise, labelled like invalid
+//    samples (blink), as in the paper.
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -63,6 +64,9 @@ struct AdaptiveParams {
   double glissade_window_ms = 40;
   /// Faster samples are noise (treated as invalid), deg/s, (0, 10000].
   double max_velocity_deg_s = 1000;
+  /// Samples whose speed changes faster than this are noise too (deg/s^2), (0, 10000000]; the paper's
+  /// 100,000 deg/s^2.
+  double max_acceleration_deg_s2 = 100000;
 };
 
 struct EventParams {
