@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 
 #include "trailscope/core/error.hpp"
@@ -74,39 +75,58 @@ std::vector<EventType> idt(const Recording& r, const std::vector<double>& x, con
     if (!r.valid[i]) l[i] = EventType::blink;
   const double step = median_step(r.t_ms);
   if (p.min_duration_ms / step > double(limits::kMaxGazeWindowSamples))
-    throw invalid_argument("min_duration_ms", "an I-DT window of " + std::to_string(p.min_duration_ms) +
+    throw invalid_argument("min_duration_ms", "an I-DT window of " + format_double(p.min_duration_ms) +
                                                   " ms holds more than limits::kMaxGazeWindowSamples (" +
                                                   std::to_string(limits::kMaxGazeWindowSamples) +
                                                   ") samples");
-  std::size_t i = 0;
+  // Salvucci and Goldberg's loop in O(n): times do not decrease (detect_events checks), so the end of the
+  // initial window only moves forward, and the window's x/y extremes come from monotonic deques of indices
+  // (front = extreme of [lo, hi)), whose two ends only move forward too.
+  std::vector<std::size_t> next_invalid(n + 1, n);
+  for (std::size_t k = n; k-- > 0;) next_invalid[k] = r.valid[k] ? next_invalid[k + 1] : k;
+  std::deque<std::size_t> xmax, xmin, ymax, ymin;
+  std::size_t hi = 0, lo = 0;  // samples [lo, hi) are in the deques
+  const auto push = [&](std::size_t k) {
+    const auto put = [&](std::deque<std::size_t>& d, const std::vector<double>& v, bool greater) {
+      while (!d.empty() && (greater ? v[d.back()] <= v[k] : v[d.back()] >= v[k])) d.pop_back();
+      d.push_back(k);
+    };
+    put(xmax, x, true), put(xmin, x, false), put(ymax, y, true), put(ymin, y, false);
+  };
+  const auto move_lo = [&](std::size_t to) {
+    lo = to;
+    for (auto* d : {&xmax, &xmin, &ymax, &ymin})
+      while (!d->empty() && d->front() < lo) d->pop_front();
+    if (hi < lo) hi = lo;
+  };
+  const auto dispersion = [&](std::size_t extra) {  // of [lo, hi) plus sample `extra` (n: none)
+    double a0 = x[xmin.front()], a1 = x[xmax.front()], b0 = y[ymin.front()], b1 = y[ymax.front()];
+    if (extra < n)
+      a0 = std::min(a0, x[extra]), a1 = std::max(a1, x[extra]), b0 = std::min(b0, y[extra]),
+      b1 = std::max(b1, y[extra]);
+    return (a1 - a0) + (b1 - b0);
+  };
+  std::size_t i = 0, end = 0;  // end: first sample that closes the initial window of i
   while (i < n) {
     if (!r.valid[i]) {
       ++i;
       continue;
     }
-    // Initial window: samples i..j covering min_duration_ms (n samples last n steps), all valid.
-    std::size_t j = i;
-    double x0 = x[i], x1 = x[i], y0 = y[i], y1 = y[i];
-    bool ok = true;
-    while (r.t_ms[j] - r.t_ms[i] + step < p.min_duration_ms - 1e-9) {
-      if (j + 1 >= n || !r.valid[j + 1]) {
-        ok = false;
-        break;
-      }
-      ++j;
-      x0 = std::min(x0, x[j]), x1 = std::max(x1, x[j]), y0 = std::min(y0, y[j]), y1 = std::max(y1, y[j]);
+    end = std::max(end, i);
+    while (end < n && r.t_ms[end] - r.t_ms[i] + step < p.min_duration_ms - 1e-9) ++end;
+    if (end >= n) break;           // no full window left: the rest stays saccade
+    if (next_invalid[i] <= end) {  // every window starting before the gap contains it
+      i = next_invalid[i];
+      continue;
     }
-    if (!ok || (x1 - x0) + (y1 - y0) > p.dispersion_threshold_deg) {
+    move_lo(i);
+    while (hi <= end) push(hi++);
+    if (dispersion(n) > p.dispersion_threshold_deg) {
       ++i;  // i stays a saccade sample
       continue;
     }
-    while (j + 1 < n && r.valid[j + 1]) {
-      const double a0 = std::min(x0, x[j + 1]), a1 = std::max(x1, x[j + 1]);
-      const double b0 = std::min(y0, y[j + 1]), b1 = std::max(y1, y[j + 1]);
-      if ((a1 - a0) + (b1 - b0) > p.dispersion_threshold_deg) break;
-      x0 = a0, x1 = a1, y0 = b0, y1 = b1;
-      ++j;
-    }
+    std::size_t j = end;
+    while (j + 1 < n && r.valid[j + 1] && dispersion(j + 1) <= p.dispersion_threshold_deg) push(hi++), ++j;
     for (std::size_t k = i; k <= j; ++k) l[k] = EventType::fixation;
     i = j + 1;
   }
@@ -277,6 +297,12 @@ std::vector<double> point_velocity(const std::vector<double>& t, const std::vect
 
 Detection detect_events(const Recording& r, const EventParams& p) {
   validate(p);
+  for (std::size_t k = 0; k < r.size(); ++k)
+    if (!std::isfinite(r.t_ms[k]) || (k > 0 && r.t_ms[k] < r.t_ms[k - 1]))
+      throw Error(Error::Kind::unprocessable, "file",
+                  "sample times must be finite and must not decrease; sample " + std::to_string(k) +
+                      " is at " + format_double(r.t_ms[k]) + " ms after " +
+                      format_double(k > 0 ? r.t_ms[k - 1] : 0) + " ms");
   std::vector<double> x, y;
   r.degrees(x, y);
   Detection d;

@@ -2,6 +2,7 @@
 // construction, and Cohen's kappa against a computation by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "trailscope/core/error.hpp"
@@ -151,6 +152,32 @@ TEST(GazeEvents, AdaptiveTreatsGlitchesAsNoise) {
   EXPECT_EQ(d.labels[45], ET::blink);
   EXPECT_EQ(d.labels[55], ET::blink);
   EXPECT_EQ(detect_events(r, EventParams{}).labels[49], ET::saccade);
+}
+
+TEST(GazeEvents, DamagedClocks) {
+  // Times that go back are refused with the sample that does it (0-based; t = 1000 + 2k ms, so sample 10
+  // moved to sample 8's 1016 ms comes after sample 9's 1018 ms).
+  std::vector<ET> truth;
+  Recording r = constructed(truth);
+  r.t_ms[10] = r.t_ms[8];
+  try {
+    detect_events(r, EventParams{});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::unprocessable);
+    EXPECT_STREQ(e.what(),
+                 "sample times must be finite and must not decrease; sample 10 is at 1016 ms after 1018 ms");
+  }
+  // A clock that stands still: no I-DT window ever lasts 100 ms, so every sample is a saccade (and the
+  // window search does not rescan the recording for each sample).
+  Recording still;
+  still.units = Units::deg;
+  const std::size_t n = 300'000;
+  still.t_ms.assign(n, 5.0), still.x.assign(n, 1.0), still.y.assign(n, 1.0), still.valid.assign(n, 1);
+  EventParams p;
+  p.method = Method::idt;
+  const Detection d = detect_events(still, p);
+  EXPECT_EQ(std::count(d.labels.begin(), d.labels.end(), ET::saccade), std::ptrdiff_t(n));
 }
 
 TEST(GazeEvents, MinimumFixationDurationDropsShortRuns) {
