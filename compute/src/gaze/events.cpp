@@ -209,6 +209,12 @@ std::vector<EventType> adaptive(const Recording& r, const std::vector<double>& x
   const double onset = mean + 3 * sd;
   pt_out = pt, onset_out = onset;
   const auto ok = [&](std::size_t i) { return std::isfinite(v[i]); };
+  // Prefix sums of the speeds (and squares, counts) for the local noise before each saccade in O(1).
+  std::vector<double> cs(n + 1, 0), cs2(n + 1, 0), cc(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool f = ok(k);
+    cs[k + 1] = cs[k] + (f ? v[k] : 0), cs2[k + 1] = cs2[k] + (f ? v[k] * v[k] : 0), cc[k + 1] = cc[k] + f;
+  }
   const std::size_t win = std::max<std::size_t>(1, std::size_t(std::lround(p.glissade_window_ms / dt)));
   std::size_t i = 0;
   while (i < n) {
@@ -220,14 +226,10 @@ std::vector<EventType> adaptive(const Recording& r, const std::vector<double>& x
     std::size_t s = i;
     while (s > 0 && ok(s - 1) && l[s - 1] == EventType::none && (v[s] > onset || v[s - 1] < v[s])) --s;
     // Local noise before the onset (the glissade window's length): the offset threshold.
-    double ls = 0, ls2 = 0;
-    std::size_t lc = 0;
-    for (std::size_t k = s >= win ? s - win : 0; k < s; ++k)
-      if (ok(k)) ls += v[k], ls2 += v[k] * v[k], ++lc;
+    const std::size_t w0 = s >= win ? s - win : 0;
+    const double ls = cs[s] - cs[w0], ls2 = cs2[s] - cs2[w0], lc = cc[s] - cc[w0];
     const double local =
-        lc >= 2 ? ls / double(lc) +
-                      3 * std::sqrt(std::max(0.0, ls2 / double(lc) - (ls / double(lc)) * (ls / double(lc))))
-                : onset;
+        lc >= 2 ? ls / lc + 3 * std::sqrt(std::max(0.0, ls2 / lc - (ls / lc) * (ls / lc))) : onset;
     const double off_thr = 0.7 * onset + 0.3 * local;
     std::size_t e = i;
     while (e + 1 < n && ok(e + 1) && (v[e] > off_thr || v[e + 1] < v[e])) ++e;
