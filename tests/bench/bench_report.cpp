@@ -1102,7 +1102,7 @@ int main(int argc, char** argv) {
       };
       body << "| **mean** | **" << k3(avg("coders")) << "** | **" << k3(avg("ivt")) << "** | **"
            << k3(avg("idt")) << "** | **" << k3(avg("adaptive")) << "** |\n\n";
-      // The criterion: I-VT and I-DT agree with the experts as well as the coders with each other.
+      // The targets: I-VT and I-DT agree with the experts as well as the coders agree with each other.
       std::ostringstream shortfall;
       for (const char* m : {"ivt", "idt"}) {
         const std::string name = std::string(m) == "ivt" ? "I-VT" : "I-DT";

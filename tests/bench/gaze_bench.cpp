@@ -7,7 +7,7 @@
 //    (10 adults, 60 infants), fixations hand-coded by 12 coders (a sample is "fixation" when inside one).
 // Inputs are read into memory before timing; parsing is timed from memory (gaze::read_gaze).
 //
-//   gaze_bench --gaze-dir ../shared/data/gaze [--reps 5]
+//   gaze_bench --gaze-dir DIR [--reps 5]      (DIR: the gaze folder of the shared data, data/gaze)
 //     {"bench":"gaze_ingest", "format", "files", "bytes", "samples", "ms_p50", "rows_per_s_p50", "reps"}
 //     {"bench":"gaze_events", "method", "recordings", "samples", "ms_p50", "samples_per_s_p50", "reps"}
 //     {"bench":"gaze_kappa", "dataset":"lund", "method", "vs", "type", "kappa"}   (method "coders": MN vs RA)
@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
   try {
     const Args a(argc, argv);
     const fs::path dir = a.get("gaze-dir");
-    if (dir.empty()) throw std::invalid_argument("--gaze-dir PATH (shared/data/gaze) is required");
+    if (dir.empty()) throw std::invalid_argument("--gaze-dir DIR (the data/gaze folder) is required");
     const int reps = static_cast<int>(a.num("reps", 5));
 
     // ---- ingest rows/s per format -------------------------------------------------------------------

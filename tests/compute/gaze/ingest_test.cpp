@@ -114,7 +114,7 @@ TEST(GazeIngest, EyeLinkAscEveryFile) {
 }
 
 TEST(GazeIngest, EyeLinkKnownCountsAndMissing) {
-  // The counts SOURCES-style provenance gives for these files, and missing samples counted per line
+  // Known counts of these files (counted once with grep), and missing samples counted per line
   // ('.' in x; binocular: in both eyes, since the average falls back to the valid eye).
   const auto luke = shared_data("gaze/saccades_luketudge/example_eyelink_events.txt");
   const GazeDataset a = read_gaze_file(luke.string());
