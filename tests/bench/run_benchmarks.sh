@@ -273,6 +273,13 @@ cmake --build "$BUILD_DIR" -j "$(nproc)" --target separation_bench 2>&1 | tail -
 run "$B/separation_bench" --file "$SO6" --reps "$SEP_REPS"
 
 # ---------------------------------------------------------------------------------------------------
+say "5e. gaze: ingest rows/s per format, event detection samples/s, kappa against the expert coders"
+GAZE_REPS=5
+[ "${BENCH_QUICK:-0}" = 1 ] && GAZE_REPS=2
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target gaze_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/gaze_bench" --gaze-dir "${BENCH_GAZE_DIR:-$ROOT/../shared/data/gaze}" --reps "$GAZE_REPS"
+
+# ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)
 say "6. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"

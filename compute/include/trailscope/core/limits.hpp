@@ -163,4 +163,15 @@ inline constexpr std::size_t kMaxCongestionPieces = 40'000'000;
 /// Most hotspots listed in one answer (the largest excesses; all are counted).
 inline constexpr std::size_t kMaxHotspots = 10'000;
 
+// --- gaze (gaze/ingest.hpp, gaze/events.hpp) ---------------------------------------------------------
+/// Largest gaze file one ingest reads (bytes): the whole file is parsed in memory (~3 bytes of parsed
+/// sample per byte of text at worst). An hour of 2 kHz binocular EyeLink ASC is about 450 MB.
+inline constexpr std::uint64_t kMaxGazeFileBytes = 1ull << 30;  // 1 GiB
+/// Most samples of one gaze file, all recordings together (~26 bytes each once parsed).
+inline constexpr std::size_t kMaxGazeSamples = 50'000'000;
+/// Most recordings (trials, blocks, sessions) of one gaze file.
+inline constexpr std::size_t kMaxGazeRecordings = 100'000;
+/// Largest window (samples) of the I-DT dispersion test and of the adaptive threshold's noise estimate.
+inline constexpr std::size_t kMaxGazeWindowSamples = 100'000;
+
 }  // namespace trailscope::limits
