@@ -1,6 +1,7 @@
 // Flow maps (flow_map.hpp): sector fields → evenly spaced streamlines → CUBu bundling.
 #include "trailscope/flow/flow_map.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -39,9 +40,11 @@ int to_int(std::string_view name, std::string_view value) {
 bundling::BundleParams FlowParams::default_bundle_params() {
   bundling::BundleParams b;
   b.size = 512;
-  b.h = 16;
+  b.h = 24;
   b.iterations = 10;
   b.spl = 8;
+  b.jitter = 0;    // streamlines are already evenly sampled; jitter only makes them wiggle
+  b.lambda = 0.5;  // smooth bundles: a flow map shows directions, not the exact tracks
   b.directional = true;
   b.max_displacement = 0.5;
   return b;
@@ -75,8 +78,12 @@ void FlowParams::set(std::string_view name, std::string_view value) {
     p.field.max_gap_seconds = v;
   } else if (name.substr(0, 7) == "bundle.")
     p.bundle.set(name.substr(7), value);
-  else
+  else {
+    const auto& infos = streamline_parameter_infos();
+    if (std::none_of(infos.begin(), infos.end(), [&](const ParamInfo& i) { return i.name == name; }))
+      throw invalid_argument(std::string(name), "unknown flow parameter '" + std::string(name) + "'");
     p.lines.set(name, value);
+  }
   p.validate();
   *this = p;
 }

@@ -28,8 +28,9 @@ struct FlowParams {
   FieldParams field;
   StreamlineParams lines;
   bundling::BundleParams bundle = default_bundle_params();
-  /// The flow defaults of CUBu: a 512 px image, kernel 16 px, 10 iterations, directional (opposite flows
-  /// repel), ends kept, max_displacement 0.5 (bundled lines stay near their streamline).
+  /// The flow defaults of CUBu: a 512 px image, kernel 24 px, 10 iterations, resampling every 8 px
+  /// without jitter, smoothing 0.5, directional (opposite flows repel), ends kept, max_displacement 0.5
+  /// (a bundled line stays within half its length of its streamline).
   static bundling::BundleParams default_bundle_params();
   /// Throws invalid_argument naming the first bad parameter (as set() names it).
   void validate() const;
