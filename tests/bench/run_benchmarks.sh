@@ -273,6 +273,13 @@ cmake --build "$BUILD_DIR" -j "$(nproc)" --target separation_bench 2>&1 | tail -
 run "$B/separation_bench" --file "$SO6" --reps "$SEP_REPS"
 
 # ---------------------------------------------------------------------------------------------------
+say "5e. flow map of the Europe SO6 day end to end (sector fields, evenly spaced streamlines, CUBu, PNG)"
+FLOW_REPS=5
+[ "${BENCH_QUICK:-0}" = 1 ] && FLOW_REPS=2
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target flow_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/flow_bench" --file "$SO6" --reps "$FLOW_REPS"
+
+# ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)
 say "6. the server over loopback (127.0.0.1:$PORT)"
 rm -rf "$DATA_DIR"
