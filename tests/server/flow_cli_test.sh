@@ -8,7 +8,7 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/../support/cli_checks.sh"
 
-# Thirty flights east along 48..49.5°N and thirty west just south of them, a sample a minute.
+# Thirty flights east along 48..48.75°N and thirty west just south of them, a sample a minute.
 python3 - "$TMP/flow.csv" <<'PY'
 import sys
 with open(sys.argv[1], "w") as f:
@@ -16,7 +16,7 @@ with open(sys.argv[1], "w") as f:
     for n in range(60):
         for k in range(41):
             east = n < 30
-            lat = 48 + 0.05 * (n % 30) - (0 if east else 0.02)
+            lat = 48 + 0.025 * (n % 30) - (0 if east else 0.01)
             lon = 0.25 * k if east else 10 - 0.25 * k
             f.write(f"{1514764800 + 60 * (n + k)},{0x300000 + n:06x},{lat:.4f},{lon:.4f},230,{90 if east else 270},0,"
                     f"FLW{n},false,10000\n")
@@ -28,7 +28,7 @@ f() { "$BIN" flow fl --data-dir "$TMP/data" --quiet "$@"; }
 f -o "$TMP/a.png" --param grid=64 --json > "$TMP/a.json"
 check "png+json exit" 0 $?
 check "png signature" "89504e47" "$(head -c 4 "$TMP/a.png" | od -An -tx1 | tr -d ' \n')"
-check "json size matches the png" "$(json 'f"{d[\"width\"]}x{d[\"height\"]}"' < "$TMP/a.json")" \
+check "json size matches the png" "$(json 'str(d["width"]) + "x" + str(d["height"])' < "$TMP/a.json")" \
   "$(python3 -c "import struct,sys; b=open(sys.argv[1],'rb').read(24); print('%dx%d' % struct.unpack('>II', b[16:24]))" "$TMP/a.png")"
 check "east and west flows both traced" "True True" \
   "$(json '" ".join(str(any(l["sector"] == s for l in d["lines"])) for s in (2, 6))' < "$TMP/a.json")"

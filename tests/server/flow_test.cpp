@@ -20,7 +20,7 @@ class FlowRouteTest : public test_routes::RouteFixture {
  protected:
   FlowRouteTest() {
     TrailSetBuilder b;
-    // Forty flights east along 48..50°N, forty west a little south, twenty north across them: flows
+    // Forty flights east along 48..49.2°N, forty west a little south, twenty north across them: flows
     // that a single averaged field would partly cancel.
     for (int f = 0; f < 100; ++f) {
       char id[8];
@@ -29,9 +29,9 @@ class FlowRouteTest : public test_routes::RouteFixture {
         Sample s;
         s.t = kT + 60.0 * (f + k), s.alt = 10000;
         if (f < 40)
-          s.lat = 48 + 0.05f * f, s.lon = 0 + 0.25f * k;
+          s.lat = 48 + 0.03f * f, s.lon = 0 + 0.25f * k;
         else if (f < 80)
-          s.lat = 47.9f + 0.05f * (f - 40), s.lon = 10 - 0.25f * k;
+          s.lat = 47.99f + 0.03f * (f - 40), s.lon = 10 - 0.25f * k;
         else
           s.lat = 45 + 0.2f * k, s.lon = 3 + 0.05f * (f - 80);
         b.add(id, "FLW" + std::to_string(f), s);
