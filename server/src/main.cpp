@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   trailscope::cli::add_congestion(app);
   trailscope::cli::add_token(app);
   trailscope::cli::add_gaze(app);
+  trailscope::cli::add_flow(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

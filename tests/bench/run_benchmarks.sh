@@ -278,6 +278,11 @@ GAZE_REPS=5
 [ "${BENCH_QUICK:-0}" = 1 ] && GAZE_REPS=2
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target gaze_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
 run "$B/gaze_bench" --gaze-dir "${BENCH_GAZE_DIR:-$ROOT/../shared/data/gaze}" --reps "$GAZE_REPS"
+say "5f. flow map of the Europe SO6 day end to end (sector fields, evenly spaced streamlines, CUBu, PNG)"
+FLOW_REPS=5
+[ "${BENCH_QUICK:-0}" = 1 ] && FLOW_REPS=2
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target flow_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/flow_bench" --file "$SO6" --reps "$FLOW_REPS"
 
 # ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)

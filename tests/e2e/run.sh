@@ -10,7 +10,7 @@
 #   7. the servers are always stopped.
 # Environment: TRAILSCOPE_BIN (default build/server/trailscope), TRAILSCOPE_SHARED (default ../shared),
 #              CHROMIUM (default /usr/bin/chromium), E2E_KEEP=1 keeps the temp dir,
-#              E2E_ONLY=dashboard|animation|congestion|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
+#              E2E_ONLY=dashboard|animation|congestion|flow|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
 #              and RUNS_SCENARIOS size the runs test's sweep (default 100 points × standard, fast-motion
 #              videos of 64 frames).
 # Prints "N passed, M failed" last; exits non-zero on any failure.
@@ -94,17 +94,18 @@ run_test() {
   fi
 }
 
-if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || [ "$ONLY" = congestion ]; then
+if [ -z "$ONLY" ] || [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || [ "$ONLY" = flow ]; then
   echo "run.sh: ingest $DATA"
   "$BIN" ingest "$DATA" --data-dir "$TMP/data" --name europe >"$TMP/ingest.log" 2>&1 || {
     tail -n 20 "$TMP/ingest.log" >&2
     die "ingest failed"
   }
   start_server flights "$TMP/data"
-  [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || run_test dashboard.test.mjs DATASET=europe LOGIN_URL="$LOGIN_URL"
-  [ "$ONLY" = dashboard ] || [ "$ONLY" = congestion ] || run_test animation.test.mjs DATASET=europe
-  [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || run_test congestion.test.mjs DATASET=europe
-  if [ "$ONLY" != congestion ]; then
+  [ "$ONLY" = animation ] || [ "$ONLY" = congestion ] || [ "$ONLY" = flow ] || run_test dashboard.test.mjs DATASET=europe LOGIN_URL="$LOGIN_URL"
+  [ "$ONLY" = dashboard ] || [ "$ONLY" = congestion ] || [ "$ONLY" = flow ] || run_test animation.test.mjs DATASET=europe
+  [ "$ONLY" = dashboard ] || [ "$ONLY" = animation ] || [ "$ONLY" = flow ] || run_test congestion.test.mjs DATASET=europe
+  [ -n "$ONLY" ] && [ "$ONLY" != flow ] || run_test flow.test.mjs DATASET=europe
+  if [ "$ONLY" != congestion ] && [ "$ONLY" != flow ]; then
     # The animation chunks of the same server against its positions endpoint: the browser's decoder and
     # interpolation (web/src/flights/animation/*.e2e.ts, run by vitest in Node).
     echo "run.sh: animation chunks vs positions (web/src/**/*.e2e.ts)"

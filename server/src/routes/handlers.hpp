@@ -27,6 +27,10 @@ Response density_tile(App& app, const Request& req, const PathParams& p);
 /// The thresholded congestion map of simultaneous aircraft (trailscope/congestion/congestion_map.hpp).
 Response congestion_tile(App& app, const Request& req, const PathParams& p);
 
+/// Flow maps (trailscope/flow/render.hpp): of a dataset's traffic, and of an uploaded vector field.
+Response dataset_flow(App& app, const Request& req, const PathParams& p);
+Response upload_flow(App& app, const Request& req, const PathParams& p);
+
 Response create_graph(App& app, const Request& req, const PathParams& p);
 
 Response bundle_params(App& app, const Request& req, const PathParams& p);

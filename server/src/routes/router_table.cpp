@@ -142,6 +142,13 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/datasets/{dataset}/congestion/tiles/{z}/{x}/{y}.png",
         bind(congestion_tile))
       .on(Lane::compute);  // 200 304 400 404
+  // Flow maps of traffic and of uploaded vector fields (routes/flow.cpp); the cost is checked up front.
+  r.add("GET", "/api/v1/datasets/{dataset}/flow", bind(dataset_flow))
+      .on(Lane::compute);  // 200 304 400 404 413 422
+  r.add("POST", "/api/v1/flow", bind(upload_flow),
+        BodyRule{limits::kMaxFlowFieldBytes, false, "vector field"})
+      .needs(Role::reader)
+      .on(Lane::compute);  // 200 400 413 415 422
   // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });

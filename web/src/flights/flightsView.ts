@@ -12,6 +12,7 @@ import { FlightCard } from './flightCard';
 import { FlightList } from './flightList';
 import { JobsView } from './jobs';
 import { BundlePanel } from './bundlePanel';
+import { FlowPanel } from './flow/flowPanel';
 import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
 import { SummaryView } from './summary';
@@ -138,6 +139,7 @@ export class FlightsView {
     });
     this.errors.register(['name', 'format'], byId('upload-error'));
     this.bundles = new BundlePanel(byId('bundle-section'), this.store, this.map, new BundleOverlay(this.map.map), this.errors);
+    new FlowPanel(byId('flow-section'), this.store, this.map.map, this.errors); // flow layer (flow/flowPanel.ts)
 
     this.playback = new PlaybackView(
       byId('map-area'),

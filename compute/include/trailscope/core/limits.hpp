@@ -173,5 +173,17 @@ inline constexpr std::size_t kMaxGazeSamples = 50'000'000;
 inline constexpr std::size_t kMaxGazeRecordings = 100'000;
 /// Largest window (samples) of the I-DT dispersion test and of the adaptive threshold's noise estimate.
 inline constexpr std::size_t kMaxGazeWindowSamples = 100'000;
+// --- flow maps (flow/): sector velocity fields, evenly spaced streamlines, their bundling -----------
+/// Most cells along either side of a flow field grid (traffic fields and uploaded fields alike).
+inline constexpr int kMaxFlowGridCells = 1024;
+/// Most heading sectors of a traffic field (one vector field each).
+inline constexpr int kMaxFlowSectors = 16;
+/// Most streamline points of one flow map over all sectors (~40 bytes each with the bundle). Checked
+/// up front against the packing bound of the spacing (flow/streamlines.hpp) and again while tracing.
+inline constexpr std::size_t kMaxFlowLinePoints = 2'000'000;
+/// Largest flow map image edge (pixels).
+inline constexpr int kMaxFlowImagePx = 4096;
+/// Largest uploaded vector field file (bytes; proto/flow_field.md).
+inline constexpr std::uint64_t kMaxFlowFieldBytes = 64ull << 20;
 
 }  // namespace trailscope::limits
