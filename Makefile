@@ -89,14 +89,15 @@ clean:
 # UndefinedBehaviorSanitizer (undefined behaviour fatal) plus libFuzzer's coverage instrumentation, and the
 # harnesses of tests/fuzz. `make test-asan` runs the C++ tests (ctest) there; `make fuzz` runs every
 # harness for FUZZ_SECONDS; `make fuzz-long` runs one segment of the long run: every harness short of
-# FUZZ_RUNS executions in all, for at most FUZZ_LONG_SECONDS each, one at a time at the lowest priority,
-# resumed from its kept corpus (ASAN_BUILD_DIR/fuzz-long/<harness>/corpus), and appends the segment to
-# tests/fuzz/long_run.jsonl (BENCHMARKS.md's fuzzing section adds the segments up); run it again until every
-# harness reached FUZZ_RUNS. .ci/run runs test-asan and fuzz after `make test`.
+# FUZZ_RUNS executions in all, for at most FUZZ_LONG_SECONDS each, FUZZ_LONG_JOBS at a time (default 1), at
+# the lowest priority, resumed from its kept corpus (ASAN_BUILD_DIR/fuzz-long/<harness>/corpus), and appends
+# the segment to tests/fuzz/long_run.jsonl (BENCHMARKS.md's fuzzing section adds the segments up); run it
+# again until every harness reached FUZZ_RUNS. .ci/run runs test-asan and fuzz after `make test`.
 ASAN_BUILD_DIR ?= build-asan
 FUZZ_SECONDS ?= 60
 FUZZ_RUNS ?= 10000000
 FUZZ_LONG_SECONDS ?= 1200
+FUZZ_LONG_JOBS ?= 1
 FUZZ_JOBS ?= $(JOBS)
 # Leak suppressions (third-party allocations only, each explained in the file); UBSan stops at the first
 # report; ASan aborts so that ctest sees the failure. use_sigaltstack=0: with its own alternate signal stack
@@ -132,4 +133,4 @@ fuzz: fuzz-build
 
 fuzz-long: fuzz-build
 	nice -n 19 bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --long --goal $(FUZZ_RUNS) --max-seconds $(FUZZ_LONG_SECONDS) \
-	  --out tests/fuzz/long_run.jsonl
+	  --jobs $(FUZZ_LONG_JOBS) --out tests/fuzz/long_run.jsonl

@@ -1253,7 +1253,8 @@ int main(int argc, char** argv) {
                 "coverage) is run towards "
              << grouped(kGoal)
              << " executions in segments: each `make fuzz-long` runs every harness still short of the goal "
-                "for at most `FUZZ_LONG_SECONDS` (one at a time, `nice -n 19`), resumed from the corpus it "
+                "for at most `FUZZ_LONG_SECONDS` (`FUZZ_LONG_JOBS` at a time, default one; `nice -n 19`), "
+                "resumed from the corpus it "
                 "kept from its earlier segments (`build-asan/fuzz-long/<harness>/corpus`, outside git; the "
                 "first segment starts from the seed corpus of `tests/fuzz/seeds.sh`, cuts of the shared "
                 "data, and the committed seeds), and appends one line per harness to `"

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/limits.hpp"
 
 namespace trailscope::tof::detail {
 namespace OIIO = OIIO_NAMESPACE;
@@ -95,6 +96,15 @@ Png16 decode_png16(std::string_view bytes, const std::string& what, const std::s
                     "-bit with " + std::to_string(spec.nchannels) + " channel(s)");
   if (spec.width < 1 || spec.height < 1)
     throw Error(Error::Kind::unsupported_format, param, what + ": empty image");
+  // The size comes from the header, before a pixel is decoded: a PNG of a few dozen bytes may claim
+  // 100,000 x 100,000 px, and the buffer below would then be 20 GB.
+  const std::uint64_t pixels =
+      static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
+  if (pixels > limits::kMaxVideoPixels)
+    throw Error(Error::Kind::payload_too_large, param,
+                what + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    " px exceeds the limit of " + std::to_string(limits::kMaxVideoPixels) +
+                    " pixels per frame (kMaxVideoPixels)");
   Png16 img;
   img.width = spec.width;
   img.height = spec.height;

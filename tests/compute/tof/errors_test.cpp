@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
+#include <zlib.h>
 
 #include "test_support.hpp"
 #include "tof_test_util.hpp"
@@ -169,6 +170,39 @@ TEST(DepthVideoErrors, WrongPngLayoutAndSize) {
                "depth/000000.png (frame 0): must be a 16-bit grey PNG, not 8-bit with 1 channel(s)");
   expect_error([&] { r.read_frame(1); }, Error::Kind::unprocessable, "depth",
                "depth/000001.png (frame 1): image is 16x16 px, the video is 32x24");
+}
+
+// A PNG of 69 bytes whose header claims 100,000 x 100,000 px (valid CRCs, written here with zlib) is
+// refused from its header: decoding it would first allocate a 20 GB pixel buffer.
+TEST(DepthVideoErrors, PngClaimingHugeSizeIsRefusedBeforeDecoding) {
+  const auto chunk = [](const std::string& type, const std::string& data) {
+    const auto be32 = [](std::uint32_t v) {
+      return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    const std::string body = type + data;
+    return be32(static_cast<std::uint32_t>(data.size())) + body +
+           be32(static_cast<std::uint32_t>(
+               crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
+  };
+  std::string ihdr = std::string("\x00\x01\x86\xa0\x00\x01\x86\xa0", 8);  // 100000, 100000
+  ihdr += std::string("\x10\x00\x00\x00\x00", 5);                         // 16-bit grey
+  const std::string zeros(64, '\0');
+  std::string idat(compressBound(zeros.size()), '\0');
+  uLongf n = idat.size();
+  ASSERT_EQ(compress(reinterpret_cast<Bytef*>(idat.data()), &n, reinterpret_cast<const Bytef*>(zeros.data()),
+                     zeros.size()),
+            Z_OK);
+  idat.resize(n);
+  const std::string png =
+      std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", idat) + chunk("IEND", "");
+
+  TempDir dir;
+  const fs::path v = small_synthetic(dir);
+  test::spit(v / "depth/000002.png", png);
+  const DepthVideoReader r(v);
+  expect_error([&] { r.read_frame(2); }, Error::Kind::payload_too_large, "depth",
+               "depth/000002.png (frame 2): 100000x100000 px exceeds the limit of " +
+                   std::to_string(limits::kMaxVideoPixels) + " pixels per frame (kMaxVideoPixels)");
 }
 
 TEST(DepthVideoErrors, DamagedPack) {
