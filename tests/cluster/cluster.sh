@@ -15,7 +15,8 @@
 # Environment: CLUSTER_DIR (default build/cluster), CLUSTER_PORT (default 29100: ZooKeeper's client port;
 # node K listens on HTTP CLUSTER_PORT+10+10K, native TCP +1, replication +2), CLUSTER_NAME (trailscope),
 # CLUSTER_DB (trailscope), CLUSTER_HOSTS ("zk n0 n1 n2 n3": host names of ZooKeeper and the 4 nodes; all
-# 127.0.0.1 by default), CLUSTER_FRESH=1 (up: delete the folder's data first).
+# 127.0.0.1 by default), CLUSTER_FRESH=1 (up: delete the folder's data first), CLUSTER_DDL_TIMEOUT (seconds an
+# ON CLUSTER query waits for every node, default 60; the query runs on a node that was down when it returns).
 #
 # Node K is shard K/2+1, replica K%2+1. Memory is kept small so that the 4 servers fit beside builds on a
 # 24 GB machine: 64 MiB mark and uncompressed caches, 2 GB per query, 3 GB for all queries of a server,
@@ -130,7 +131,7 @@ EOF
       <background_pool_size>4</background_pool_size>
       <use_uncompressed_cache>0</use_uncompressed_cache>
       <load_balancing>in_order</load_balancing>
-      <distributed_ddl_task_timeout>60</distributed_ddl_task_timeout>
+      <distributed_ddl_task_timeout>${CLUSTER_DDL_TIMEOUT:-60}</distributed_ddl_task_timeout>
     </default>
   </profiles>
   <users>
