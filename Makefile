@@ -18,6 +18,9 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config \
 # Needed by `make test` (browser test, loopback test: python3 reads its JSON) and `make bench` only.
 APT_TEST_PACKAGES := chromium wrk python3
 APT_BENCH_PACKAGES := clickhouse-server clickhouse-client
+# The local ClickHouse cluster (`make cluster`, and the cluster tests of `make test`): ClickHouse 18.16 and
+# ZooKeeper 3.8 from Debian 12.
+APT_CLUSTER_PACKAGES := clickhouse-server clickhouse-client zookeeper curl
 # Needed by `make test-asan` and `make fuzz` only: clang with libFuzzer and the sanitizer runtimes, and
 # llvm-symbolizer for readable sanitizer stack traces (Debian 12: clang 14).
 APT_FUZZ_PACKAGES := clang libclang-rt-14-dev llvm
@@ -41,6 +44,7 @@ deps:
 
 deps-test: deps
 	$(call apt_install,$(APT_TEST_PACKAGES))
+	$(call apt_install,$(APT_CLUSTER_PACKAGES))
 
 deps-bench: deps-test
 	$(call apt_install,$(APT_BENCH_PACKAGES))
@@ -77,6 +81,20 @@ bench: deps-bench build web
 .PHONY: load
 load: deps-test build web-deps
 	BUILD_DIR=$(BUILD_DIR) LOAD_DEMO_SOURCE=$(CURDIR)/web/node_modules/vega-datasets/data bash tests/bench/load_test.sh
+
+# ---- A local ClickHouse cluster (docker/README.md "A ClickHouse cluster") -----------------------------
+# `make cluster`: 2 shards x 2 replicas of clickhouse-server and one ZooKeeper on loopback ports, every
+# process ours with its pid file under $(CLUSTER_DIR); waits until each node answers and sees the topology,
+# then prints the `--store clickhouse://...` URL. `make cluster-down` stops them by those pids (data kept;
+# CLUSTER_FRESH=1 make cluster starts empty). The script: tests/cluster/cluster.sh.
+CLUSTER_DIR ?= $(BUILD_DIR)/cluster
+.PHONY: deps-cluster cluster cluster-down
+deps-cluster:
+	$(call apt_install,$(APT_CLUSTER_PACKAGES))
+cluster: deps-cluster
+	CLUSTER_DIR=$(CLUSTER_DIR) bash tests/cluster/cluster.sh up
+cluster-down:
+	CLUSTER_DIR=$(CLUSTER_DIR) bash tests/cluster/cluster.sh down
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

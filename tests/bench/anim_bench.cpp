@@ -49,7 +49,7 @@ class MemoryStore final : public srv::DatasetStore {
     return ds_;
   }
   bool contains(const std::string& id) const override { return id == ds_->id; }
-  void put(std::shared_ptr<const srv::Dataset>) override {}
+  void put(std::shared_ptr<const srv::Dataset>, const ts::ProgressFn&) override {}
   void remove(const std::string&) override {}
 
  private:

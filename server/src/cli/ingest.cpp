@@ -5,7 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
 #include "store/dataset_ingest.hpp"
-#include "store/embedded_store.hpp"
+#include "store/clickhouse_store.hpp"
 
 namespace trailscope::cli {
 
@@ -14,7 +14,7 @@ void add_ingest(CLI::App& app) {
       "ingest",
       "Ingest an ADS-B file (OpenSky CSV, traffic JSON, SO6, readsb trace; plain or gzip) as a dataset");
   struct Opts {
-    std::string file, data_dir = default_data_dir(), name, format;
+    std::string file, data_dir = default_data_dir(), name, format, store;
     bool json = false, quiet = false;
   };
   auto o = std::make_shared<Opts>();
@@ -23,6 +23,9 @@ void add_ingest(CLI::App& app) {
   cmd->add_option("--name", o->name, "dataset id (default: derived from the file name)");
   cmd->add_option("--format", o->format,
                   "opensky_csv | traffic_json | so6 | readsb_trace (default: detected)");
+  cmd->add_option("--store", o->store,
+                  "where the dataset goes: 'embedded' (the data folder, default) or "
+                  "clickhouse://HOST:PORT[,HOST:PORT...]/DB?cluster=NAME");
   cmd->add_flag("--json", o->json, "print the dataset and its ingest report as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->callback([o] {
@@ -35,11 +38,12 @@ void add_ingest(CLI::App& app) {
     }
     req.name = o->name;
     if (!o->format.empty()) req.format = o->format;
-    server::EmbeddedStore store(o->data_dir);
+    const auto store =
+        server::open_dataset_store(o->store, o->data_dir, server::EmbeddedStore::Leftovers::keep);
     std::shared_ptr<const server::Dataset> ds;
     {
       ProgressBar bar("ingest " + o->name, !o->quiet);
-      ds = server::ingest_into_store(store, req, bar.fn(), nullptr);
+      ds = server::ingest_into_store(*store, req, bar.fn(), nullptr);
     }
     const auto j = ds->to_json();
     if (o->json) {

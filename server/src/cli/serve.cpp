@@ -6,6 +6,7 @@
 #include "cli/demo_dataset.hpp"
 #include "net/http_server.hpp"
 #include "net/ws_hub.hpp"
+#include "store/clickhouse_store.hpp"
 #include "store/embedded_store.hpp"
 #include "trailscope/core/backend.hpp"
 #include "limits.hpp"
@@ -24,6 +25,7 @@ void add_serve(CLI::App& app) {
     bool demo = false, public_reads = false;
     std::size_t demo_flights = 20000;
     std::string backend;
+    std::string store;
   };
   auto o = std::make_shared<Opts>();
   cmd->add_option("--data-dir", o->data_dir, "store folder (created if absent)")->capture_default_str();
@@ -43,6 +45,10 @@ void add_serve(CLI::App& app) {
   cmd->add_option("--web-root", o->web_root, "folder of the built browser app (web/dist)")
       ->capture_default_str();
   cmd->add_option("--backend", o->backend, "compute backend: cpu | opencl | auto");
+  cmd->add_option("--store", o->store,
+                  "where datasets live: 'embedded' (the data folder, default) or "
+                  "clickhouse://HOST:PORT[,HOST:PORT...]/DB?cluster=NAME (a ClickHouse cluster; the data "
+                  "folder keeps everything else)");
   cmd->add_flag("--demo", o->demo, "create the generated demo dataset 'demo' first if it is absent");
   cmd->add_flag("--public-reads", o->public_reads,
                 "serve GET and HEAD of every read-only route without a token (writes still need one)");
@@ -57,7 +63,13 @@ void add_serve(CLI::App& app) {
     if (default_backend() == Backend::opencl ||
         (default_backend() == Backend::auto_ && opencl_info().device_type == "gpu"))
       std::thread([] { opencl_warm_up(); }).detach();
-    auto store = std::make_shared<EmbeddedStore>(o->data_dir, EmbeddedStore::Leftovers::remove);
+    // The data folder holds uploads, tokens and every other store whatever backend holds the datasets.
+    auto embedded = std::make_shared<EmbeddedStore>(o->data_dir, EmbeddedStore::Leftovers::remove);
+    std::shared_ptr<DatasetStore> store = embedded;
+    if (!o->store.empty() && o->store != "embedded") {
+      store = open_dataset_store(o->store, o->data_dir, EmbeddedStore::Leftovers::remove);
+      std::cout << "datasets in " << o->store << std::endl;
+    }
     store->list();  // load every dataset now, so that no first request pays for reading one
     if (o->demo && !store->contains("demo"))
       create_demo_dataset(*store, "demo", o->demo_flights, 42, o->demo_source);
@@ -69,7 +81,7 @@ void add_serve(CLI::App& app) {
     }
     // The hub outlives the app: jobs still finishing while the app shuts down announce their end to it.
     WsHub hub;
-    App app(store, store->upload_dir(), web, limits::kTileCacheBytes, store->root());
+    App app(store, embedded->upload_dir(), web, limits::kTileCacheBytes, embedded->root());
     app.jobs.add_listener([&hub](const JobState& s) {
       hub.broadcast(json_text({{"type", "job"}, {"job", s.to_json()}}));
     });
@@ -83,7 +95,7 @@ void add_serve(CLI::App& app) {
     ServerOptions so{o->host, o->port, o->threads, *names, *origins};
     if (o->demo) create_demo_videos(*app.videos);
     run_http_server(
-        so, router, hub, store->upload_dir(),
+        so, router, hub, embedded->upload_dir(),
         [&](unsigned short port) {
           std::cout << "trailscope " TRAILSCOPE_VERSION " serving " << store->list().size()
                     << " dataset(s) at http://" << o->host << ":" << port << "/" << std::endl;

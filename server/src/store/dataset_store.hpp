@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trailscope/core/progress.hpp"
 #include "trailscope/trails/trail_set.hpp"
 
 namespace trailscope::server {
@@ -34,8 +35,9 @@ class DatasetStore {
   virtual std::shared_ptr<const Dataset> get(const std::string& id) const = 0;
   virtual bool contains(const std::string& id) const = 0;
   /// Stores a dataset whole or not at all. Throws Error(conflict, "name") when the id exists and
-  /// invalid_argument("name") when the id is malformed.
-  virtual void put(std::shared_ptr<const Dataset> ds) = 0;
+  /// invalid_argument("name") when the id is malformed. `progress` (0..1) is told how far the writing is,
+  /// when the backend writes over a network (the ClickHouse store); the embedded store does not call it.
+  virtual void put(std::shared_ptr<const Dataset> ds, const ProgressFn& progress = {}) = 0;
   /// Throws not_found("dataset") when absent.
   virtual void remove(const std::string& id) = 0;
 };

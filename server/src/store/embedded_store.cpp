@@ -157,7 +157,7 @@ bool EmbeddedStore::contains(const std::string& id) const {
   return datasets_.count(id) > 0;
 }
 
-void EmbeddedStore::put(std::shared_ptr<const Dataset> ds) {
+void EmbeddedStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn&) {
   validate_dataset_id(ds->id);
   if (contains(ds->id)) throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
   const fs::path tmp = stage_folder(root_ / "tmp", ds->id);

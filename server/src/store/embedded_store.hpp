@@ -27,7 +27,7 @@ class EmbeddedStore final : public DatasetStore {
   std::vector<std::shared_ptr<const Dataset>> list() const override;
   std::shared_ptr<const Dataset> get(const std::string& id) const override;
   bool contains(const std::string& id) const override;
-  void put(std::shared_ptr<const Dataset> ds) override;
+  void put(std::shared_ptr<const Dataset> ds, const ProgressFn& progress = {}) override;
   void remove(const std::string& id) override;
 
   const std::filesystem::path& root() const { return root_; }

@@ -20,6 +20,10 @@
 //                                 as above)
 //   store.row.before_row          a run's or MOT file's payload is written, its row (written last) is not
 //   store.row.remove.after_row    a run's or MOT file's row is removed, its payload not yet
+//   clickhouse.insert.batch       the ClickHouse store (clickhouse_store.hpp) inserted a batch of a dataset's
+//                                 rows, its catalogue row not written (`#n`: the n-th batch)
+//   clickhouse.before_catalogue   every row of a dataset inserted, its catalogue row (written last) not
+//   (the two ClickHouse ones are reached by tests/cluster/clickhouse_store_test.cpp, not the chaos test)
 //   job.progress                  a job reported progress (mid-parse of an ingest, mid-synth, mid-bundle);
 //                                 `job.progress:<kind>` only for jobs of that kind (ingest, synth, ...)
 #include <string_view>

@@ -1,0 +1,467 @@
+#include "store/clickhouse_store.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <set>
+#include <sstream>
+
+#include "store/failpoint.hpp"
+
+namespace trailscope::server {
+
+namespace {
+
+/// Appends values in ClickHouse's RowBinary encoding: little-endian fixed-size numbers, strings as a
+/// LEB128 length and the bytes.
+struct RowBinary {
+  std::string buf;
+  template <class T>
+  void num(T v) {
+    static_assert(std::is_arithmetic_v<T>);
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));  // x86-64 and aarch64 are little-endian, as RowBinary is
+    buf.append(b, sizeof(T));
+  }
+  void str(std::string_view s) {
+    std::uint64_t n = s.size();
+    do {
+      std::uint8_t byte = n & 0x7f;
+      n >>= 7;
+      if (n) byte |= 0x80;
+      buf.push_back(static_cast<char>(byte));
+    } while (n);
+    buf.append(s);
+  }
+};
+
+/// Reads RowBinary values; throws Error(internal) at the end of the data.
+struct RowReader {
+  std::string_view data;
+  std::size_t pos = 0;
+  bool done() const { return pos == data.size(); }
+  void need(std::size_t n) const {
+    if (data.size() - pos < n) throw Error(Error::Kind::internal, "store", "ClickHouse: a truncated answer");
+  }
+  template <class T>
+  T num() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, data.data() + pos, sizeof(T));
+    pos += sizeof(T);
+    return v;
+  }
+  std::string str() {
+    std::uint64_t n = 0;
+    for (int shift = 0;; shift += 7) {
+      need(1);
+      const auto byte = static_cast<std::uint8_t>(data[pos++]);
+      n |= std::uint64_t(byte & 0x7f) << shift;
+      if (!(byte & 0x80)) break;
+      if (shift > 56) throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed string length");
+    }
+    need(n);
+    std::string s(data.substr(pos, n));
+    pos += n;
+    return s;
+  }
+};
+
+/// The hour of a time (floor(t / 3600)); 0 for a time that is not finite.
+std::int32_t hour_of(double t) {
+  if (!std::isfinite(t)) return 0;
+  const double h = std::floor(t / 3600.0);
+  return h < -2147483648.0 ? INT32_MIN : h > 2147483647.0 ? INT32_MAX : static_cast<std::int32_t>(h);
+}
+
+std::uint64_t now_version() {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::system_clock::now().time_since_epoch())
+                                        .count());
+}
+
+}  // namespace
+
+std::uint64_t ClickHouseStore::morton(std::uint32_t x, std::uint32_t y) {
+  // Spreads the 32 bits of v over the even bits of a 64-bit word (the "magic bits" method of Morton codes,
+  // Sean Eron Anderson, Bit Twiddling Hacks, "Interleave bits by Binary Magic Numbers").
+  auto spread = [](std::uint64_t v) {
+    v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v << 2)) & 0x3333333333333333ull;
+    v = (v | (v << 1)) & 0x5555555555555555ull;
+    return v;
+  };
+  return spread(x) | (spread(y) << 1);
+}
+
+ClickHouseStore::ClickHouseStore(const ClickHouseUrl& url, bool leftovers,
+                                 ClickHouseClient::Timeouts timeouts)
+    : client_(url.hosts, timeouts), db_(url.database), cluster_(url.cluster) {
+  const std::string replicas = client_.query(
+      "SELECT count() FROM system.clusters WHERE cluster = " + ClickHouseClient::quote(cluster_) +
+      " GROUP BY shard_num ORDER BY count() LIMIT 1 FORMAT TSV");
+  if (replicas.empty())
+    throw invalid_argument("--store", "--store: the ClickHouse nodes know no cluster '" + cluster_ + "'");
+  quorum_ = std::max(1, std::atoi(replicas.c_str()));
+  create_tables();
+  // The catalogue: the highest version of each id, visible unless deleted.
+  const std::string rows = client_.query(
+      "SELECT id, name, format, created, owner, ingest FROM (SELECT id, argMax(deleted, version) AS del, "
+      "argMax(name, version) AS name, argMax(format, version) AS format, argMax(created, version) AS "
+      "created, "
+      "argMax(owner, version) AS owner, argMax(ingest, version) AS ingest FROM " +
+      db_ + ".catalogue GROUP BY id) WHERE del = 0 FORMAT RowBinary");
+  RowReader r{rows};
+  while (!r.done()) {
+    const std::string id = r.str();
+    Meta m;
+    m.name = r.str(), m.format = r.str(), m.created = r.str(), m.owner = r.str();
+    m.ingest = nlohmann::json::parse(r.str(), nullptr, false);
+    if (m.ingest.is_discarded()) m.ingest = nlohmann::json::object();
+    catalogue_[id] = std::move(m);
+  }
+  if (leftovers) remove_leftovers();
+}
+
+void ClickHouseStore::create_tables() {
+  const std::string on = " ON CLUSTER " + cluster_;
+  auto replicated = [&](const std::string& table) {
+    return "ReplicatedMergeTree('/clickhouse/tables/{shard}/" + db_ + "/" + table + "', '{replica}')";
+  };
+  auto distributed = [&](const std::string& table) {
+    return "CREATE TABLE IF NOT EXISTS " + db_ + "." + table + on + " AS " + db_ + "." + table +
+           "_local ENGINE = Distributed(" + cluster_ + ", " + db_ + ", " + table +
+           "_local, intHash32(flight))";
+  };
+  // ON CLUSTER waits for every node: skipped when the answering node has every table already, so that a
+  // server starts while a replica is down.
+  const std::string have = client_.query(
+      "SELECT count() FROM system.tables WHERE database = " + ClickHouseClient::quote(db_) +
+      " AND name IN ('points_local', 'segments_local', 'flights_local', 'points', 'segments', 'flights', "
+      "'catalogue') FORMAT TSV");
+  if (have == "7\n") return;
+  client_.query("CREATE DATABASE IF NOT EXISTS " + db_ + on);
+  client_.query(
+      "CREATE TABLE IF NOT EXISTS " + db_ + ".points_local" + on +
+      " (dataset String, idx UInt32, flight UInt32, t Float64, lat Float32, lon Float32, alt Float32, "
+      "speed Float32, track Float32, vrate Float32, on_ground UInt8, mx UInt32, my UInt32, "
+      "morton UInt64, hour Int32) ENGINE = " +
+      replicated("points_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
+  client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".segments_local" + on +
+                " (dataset String, idx UInt32, flight UInt32, t0 Float64, t1 Float64, x0 UInt32, y0 UInt32, "
+                "x1 UInt32, y1 UInt32, morton UInt64, hour Int32) ENGINE = " +
+                replicated("segments_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
+  client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".flights_local" + on +
+                " (dataset String, flight UInt32, begin UInt32, end UInt32, icao24 String, callsign String) "
+                "ENGINE = " +
+                replicated("flights_local") + " PARTITION BY dataset ORDER BY flight");
+  for (const char* t : {"points", "segments", "flights"}) client_.query(distributed(t));
+  // Replicated on every node (one replica set for the whole cluster): any node answers list().
+  client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".catalogue" + on +
+                " (id String, version UInt64, deleted UInt8, name String, format String, created String, "
+                "owner String, ingest String, points UInt64, flights UInt64) ENGINE = "
+                "ReplicatedMergeTree('/clickhouse/tables/all/" +
+                db_ + "/catalogue', '{shard}-{replica}') ORDER BY (id, version)");
+}
+
+bool ClickHouseStore::has_rows(const std::string& id) const {
+  return client_.query("SELECT count() FROM cluster(" + ClickHouseClient::quote(cluster_) +
+                       ", system, parts) WHERE database = " + ClickHouseClient::quote(db_) +
+                       " AND table IN ('points_local', 'segments_local', 'flights_local') AND active AND "
+                       "partition = " +
+                       ClickHouseClient::quote(id) + " FORMAT TSV") != "0\n";
+}
+
+void ClickHouseStore::drop_partitions(const std::string& id) {
+  for (const char* t : {"points_local", "segments_local", "flights_local"})
+    client_.query("ALTER TABLE " + db_ + "." + t + " ON CLUSTER " + cluster_ + " DROP PARTITION " +
+                  ClickHouseClient::quote(id));
+}
+
+void ClickHouseStore::remove_leftovers() {
+  // One replica of each shard answers (the parts of replicas are the same).
+  const std::string rows = client_.query(
+      "SELECT DISTINCT partition FROM cluster(" + ClickHouseClient::quote(cluster_) +
+      ", system, parts) WHERE database = " + ClickHouseClient::quote(db_) +
+      " AND table IN ('points_local', 'segments_local', 'flights_local') AND active FORMAT RowBinary");
+  RowReader r{rows};
+  std::set<std::string> orphans;
+  while (!r.done()) {
+    std::string id = r.str();
+    if (!catalogue_.count(id)) orphans.insert(std::move(id));
+  }
+  for (const auto& id : orphans) {
+    std::cerr << "store: removing the rows of dataset '" << id
+              << "', not in the catalogue (an interrupted ingest or delete)\n";
+    drop_partitions(id);
+  }
+}
+
+std::vector<std::shared_ptr<const Dataset>> ClickHouseStore::list() const {
+  std::vector<std::string> ids;
+  {
+    std::lock_guard lock(mu_);
+    for (const auto& [id, m] : catalogue_) ids.push_back(id);
+  }
+  std::vector<std::shared_ptr<const Dataset>> out;
+  for (const auto& id : ids) try {
+      out.push_back(get(id));
+    } catch (const Error& e) {
+      if (e.kind() != Error::Kind::not_found) throw;  // deleted meanwhile
+    }
+  return out;
+}
+
+bool ClickHouseStore::contains(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  return catalogue_.count(id) > 0;
+}
+
+std::shared_ptr<const Dataset> ClickHouseStore::get(const std::string& id) const {
+  Meta meta;
+  {
+    std::lock_guard lock(mu_);
+    auto it = catalogue_.find(id);
+    if (it == catalogue_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
+    if (auto l = loaded_.find(id); l != loaded_.end()) return l->second;
+    meta = it->second;
+  }
+  std::lock_guard load_lock(load_mu_);
+  {
+    std::lock_guard lock(mu_);
+    if (auto l = loaded_.find(id); l != loaded_.end()) return l->second;
+  }
+  auto ds = load(id, meta);
+  std::lock_guard lock(mu_);
+  if (!catalogue_.count(id)) throw not_found("dataset", "dataset '" + id + "' does not exist");
+  loaded_[id] = ds;
+  return ds;
+}
+
+std::shared_ptr<const Dataset> ClickHouseStore::load(const std::string& id, const Meta& meta) const {
+  const std::string where = " WHERE dataset = " + ClickHouseClient::quote(id);
+  const std::string frows = client_.query("SELECT flight, begin, end, icao24, callsign FROM " + db_ +
+                                          ".flights" + where + " FORMAT RowBinary");
+  std::vector<Flight> flights;
+  std::vector<bool> seen_flight;
+  RowReader fr{frows};
+  auto corrupt = [&](const std::string& what) {
+    return Error(Error::Kind::internal, "store", "ClickHouse: dataset '" + id + "' " + what);
+  };
+  struct FlightRow {
+    std::uint32_t flight, begin, end;
+    std::string icao24, callsign;
+  };
+  std::vector<FlightRow> frs;
+  while (!fr.done()) {
+    FlightRow f;
+    f.flight = fr.num<std::uint32_t>(), f.begin = fr.num<std::uint32_t>(), f.end = fr.num<std::uint32_t>();
+    f.icao24 = fr.str(), f.callsign = fr.str();
+    frs.push_back(std::move(f));
+  }
+  flights.resize(frs.size());
+  seen_flight.assign(frs.size(), false);
+  for (auto& f : frs) {
+    if (f.flight >= flights.size() || seen_flight[f.flight])
+      throw corrupt("has an inconsistent flight table");
+    seen_flight[f.flight] = true;
+    Flight& g = flights[f.flight];
+    g.begin = f.begin, g.end = f.end, g.icao24 = std::move(f.icao24), g.callsign = std::move(f.callsign);
+  }
+  frs.clear();
+
+  const std::string prows =
+      client_.query("SELECT idx, t, lat, lon, alt, speed, track, vrate, on_ground FROM " + db_ + ".points" +
+                    where + " FORMAT RowBinary");
+  constexpr std::size_t kRow = 4 + 8 + 6 * 4 + 1;
+  if (prows.size() % kRow) throw corrupt("has a truncated point table");
+  const std::size_t n = prows.size() / kRow;
+  PointColumns p;
+  p.resize(n);
+  std::vector<bool> seen(n, false);
+  RowReader pr{prows};
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = pr.num<std::uint32_t>();
+    if (i >= n || seen[i]) throw corrupt("has an inconsistent point table");
+    seen[i] = true;
+    p.t[i] = pr.num<double>();
+    p.lat[i] = pr.num<float>(), p.lon[i] = pr.num<float>(), p.alt[i] = pr.num<float>();
+    p.speed[i] = pr.num<float>(), p.track[i] = pr.num<float>(), p.vrate[i] = pr.num<float>();
+    p.on_ground[i] = pr.num<std::uint8_t>();
+  }
+  for (Flight& f : flights) {
+    if (f.begin > f.end || f.end > n) throw corrupt("has a flight range outside its points");
+    compute_extents(f, p);
+  }
+  auto ds = std::make_shared<Dataset>();
+  ds->id = id;
+  ds->name = meta.name;
+  ds->format = meta.format;
+  ds->created = meta.created;
+  ds->ingest = meta.ingest;
+  ds->owner = meta.owner;
+  ds->trails = std::make_shared<const TrailSet>(std::move(p), std::move(flights));
+  return ds;
+}
+
+void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& progress) {
+  validate_dataset_id(ds->id);
+  if (contains(ds->id)) throw Error(Error::Kind::conflict, "name", "dataset '" + ds->id + "' already exists");
+  const TrailSet& t = *ds->trails;
+  const PointColumns& p = t.points();
+  const std::size_t n = p.size(), nf = t.num_flights();
+  if (n > std::numeric_limits<std::uint32_t>::max())
+    throw invalid_argument("name", "a dataset of more than 2^32 - 1 points");
+  // Each point's flight (the sharding key); points outside every flight go to flight 0's shard.
+  std::vector<std::uint32_t> flight_of(n, 0);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (std::uint32_t i = t.flights()[f].begin; i < t.flights()[f].end; ++i)
+      flight_of[i] = static_cast<std::uint32_t>(f);
+  // Rows every replica of its shard has acknowledged (so that any replica serves the whole dataset).
+  // No deduplication: a dataset put again after a delete has the same blocks, which replicated tables
+  // would otherwise skip as already inserted.
+  // A replica that is down makes the quorum fail after kQuorumTimeoutMs (ClickHouse's default waits 10
+  // minutes): the ingest is refused, not hung.
+  const ClickHouseClient::Settings ins = {
+      {"insert_distributed_sync", "1"},
+      {"insert_distributed_timeout", std::to_string(kQuorumTimeoutMs / 1000)},
+      {"insert_quorum", std::to_string(quorum_)},
+      {"insert_quorum_timeout", std::to_string(kQuorumTimeoutMs)},
+      {"insert_deduplicate", "0"}};
+  const std::size_t segments = [&] {
+    std::size_t s = 0;
+    for (const Flight& f : t.flights()) s += f.size() > 1 ? f.size() - 1 : 0;
+    return s;
+  }();
+  const double total = static_cast<double>(nf + n + segments) + 1;
+  double done = 0;
+  auto report = [&](std::size_t rows) {
+    done += static_cast<double>(rows);
+    if (progress) progress(done / total, "store");
+  };
+  try {
+    // Rows of an earlier attempt at this id that never reached the catalogue (a killed CLI ingest).
+    if (has_rows(ds->id)) drop_partitions(ds->id);
+    RowBinary rb;
+    auto flush = [&](const std::string& table, const std::string& cols, std::size_t rows) {
+      if (rows == 0) return;
+      client_.query("INSERT INTO " + db_ + "." + table + " (" + cols + ") FORMAT RowBinary", ins, rb.buf);
+      rb.buf.clear();
+      report(rows);
+      failpoint("clickhouse.insert.batch");
+    };
+    std::size_t rows = 0;
+    for (std::size_t f = 0; f < nf; ++f) {
+      const Flight& fl = t.flights()[f];
+      rb.str(ds->id), rb.num<std::uint32_t>(f), rb.num(fl.begin), rb.num(fl.end), rb.str(fl.icao24),
+          rb.str(fl.callsign);
+      if (++rows == kBatchRows)
+        flush("flights", "dataset, flight, begin, end, icao24, callsign", rows), rows = 0;
+    }
+    flush("flights", "dataset, flight, begin, end, icao24, callsign", rows), rows = 0;
+    const auto& mx = t.merc_x();
+    const auto& my = t.merc_y();
+    const std::string pcols =
+        "dataset, idx, flight, t, lat, lon, alt, speed, track, vrate, on_ground, mx, my, morton, hour";
+    for (std::size_t i = 0; i < n; ++i) {
+      rb.str(ds->id), rb.num<std::uint32_t>(i), rb.num(flight_of[i]), rb.num(p.t[i]);
+      rb.num(p.lat[i]), rb.num(p.lon[i]), rb.num(p.alt[i]), rb.num(p.speed[i]), rb.num(p.track[i]),
+          rb.num(p.vrate[i]), rb.num(p.on_ground[i]);
+      rb.num(mx[i]), rb.num(my[i]), rb.num(morton(mx[i], my[i])), rb.num(hour_of(p.t[i]));
+      if (++rows == kBatchRows) flush("points", pcols, rows), rows = 0;
+    }
+    flush("points", pcols, rows), rows = 0;
+    const std::string scols = "dataset, idx, flight, t0, t1, x0, y0, x1, y1, morton, hour";
+    for (std::size_t f = 0; f < nf; ++f) {
+      const Flight& fl = t.flights()[f];
+      for (std::uint32_t i = fl.begin; i + 1 < fl.end; ++i) {
+        rb.str(ds->id), rb.num<std::uint32_t>(i), rb.num<std::uint32_t>(f), rb.num(p.t[i]),
+            rb.num(p.t[i + 1]);
+        rb.num(mx[i]), rb.num(my[i]), rb.num(mx[i + 1]), rb.num(my[i + 1]);
+        rb.num(morton(mx[i], my[i])), rb.num(hour_of(p.t[i]));
+        if (++rows == kBatchRows) flush("segments", scols, rows), rows = 0;
+      }
+    }
+    flush("segments", scols, rows), rows = 0;
+    failpoint("clickhouse.before_catalogue");
+    // The catalogue row, last: from now on the dataset is visible.
+    rb.str(ds->id), rb.num(now_version()), rb.num<std::uint8_t>(0), rb.str(ds->name), rb.str(ds->format),
+        rb.str(ds->created), rb.str(ds->owner), rb.str(ds->ingest.dump()), rb.num<std::uint64_t>(n),
+        rb.num<std::uint64_t>(nf);
+    client_.query(
+        "INSERT INTO " + db_ +
+            ".catalogue (id, version, deleted, name, format, created, owner, ingest, points, flights) "
+            "FORMAT RowBinary",
+        {{"insert_quorum", std::to_string(quorum_)},
+         {"insert_quorum_timeout", std::to_string(kQuorumTimeoutMs)}},
+        rb.buf);
+    report(1);
+  } catch (...) {
+    // Not in the catalogue: invisible; its rows go now or, if the cluster cannot be reached, at the next
+    // start.
+    try {
+      if (has_rows(ds->id)) drop_partitions(ds->id);
+    } catch (const std::exception& ex) {
+      std::cerr << "store: the rows of the failed ingest of '" << ds->id
+                << "' stay until the next start: " << ex.what() << "\n";
+    }
+    throw;
+  }
+  std::lock_guard lock(mu_);
+  catalogue_[ds->id] = Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest};
+  loaded_[ds->id] = ds;
+}
+
+void ClickHouseStore::remove(const std::string& id) {
+  Meta meta;
+  {
+    std::lock_guard lock(mu_);
+    auto it = catalogue_.find(id);
+    if (it == catalogue_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
+    meta = it->second;
+  }
+  // The tombstone is one row, written at once: the dataset disappears whole.
+  RowBinary rb;
+  rb.str(id), rb.num(now_version()), rb.num<std::uint8_t>(1), rb.str(meta.name), rb.str(meta.format),
+      rb.str(meta.created), rb.str(meta.owner), rb.str(meta.ingest.dump()), rb.num<std::uint64_t>(0),
+      rb.num<std::uint64_t>(0);
+  client_.query(
+      "INSERT INTO " + db_ +
+          ".catalogue (id, version, deleted, name, format, created, owner, ingest, points, flights) "
+          "FORMAT RowBinary",
+      {{"insert_quorum", std::to_string(quorum_)},
+       {"insert_quorum_timeout", std::to_string(kQuorumTimeoutMs)}},
+      rb.buf);
+  {
+    std::lock_guard lock(mu_);
+    catalogue_.erase(id);
+    loaded_.erase(id);
+  }
+  try {
+    drop_partitions(id);
+  } catch (const std::exception& ex) {
+    std::cerr << "store: the rows of deleted dataset '" << id << "' stay until the next start: " << ex.what()
+              << "\n";
+  }
+}
+
+}  // namespace trailscope::server
+
+namespace trailscope::server {
+
+std::shared_ptr<DatasetStore> open_dataset_store(const std::string& store,
+                                                 const std::filesystem::path& data_dir,
+                                                 EmbeddedStore::Leftovers leftovers) {
+  if (store.empty() || store == "embedded") return std::make_shared<EmbeddedStore>(data_dir, leftovers);
+  if (store.rfind("clickhouse://", 0) == 0)
+    return std::make_shared<ClickHouseStore>(ClickHouseUrl::parse(store, "--store"),
+                                             leftovers == EmbeddedStore::Leftovers::remove);
+  throw invalid_argument(
+      "--store",
+      "--store: '" + store + "' is neither 'embedded' nor clickhouse://HOST:PORT[,...]/DB?cluster=NAME");
+}
+
+}  // namespace trailscope::server

@@ -1,0 +1,456 @@
+// The ClickHouse store against a real local cluster (tests/cluster/cluster.sh, started by the ctest fixture
+// `cluster_up`, stopped by `cluster_down`): rows round-trip bit for bit, every read route answers the same
+// bytes as over the embedded store on the Europe SO6 day and the demo day, an ingest killed midway leaves
+// nothing visible, a delete is whole, and the URL parser refuses what it must.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <csignal>
+#include <random>
+#include <sys/wait.h>
+#include <thread>
+
+#include "route_fixture.hpp"
+#include "store/clickhouse_store.hpp"
+#include "test_support.hpp"
+#include "trailscope/ingest/demo_traffic.hpp"
+#include "trailscope/ingest/ingest.hpp"
+#include "trailscope/trails/trail_set_builder.hpp"
+
+namespace trailscope::server {
+namespace {
+namespace fs = std::filesystem;
+
+// ---- without a cluster --------------------------------------------------------------------------------
+
+TEST(ClickHouseUrl, ParsesHostsDatabaseAndCluster) {
+  const auto u = ClickHouseUrl::parse("clickhouse://127.0.0.1:29110,ch-2.example:8123/trail_db?cluster=c1");
+  ASSERT_EQ(u.hosts.size(), 2u);
+  EXPECT_EQ(u.hosts[0].host, "127.0.0.1");
+  EXPECT_EQ(u.hosts[0].port, 29110);
+  EXPECT_EQ(u.hosts[1].host, "ch-2.example");
+  EXPECT_EQ(u.hosts[1].port, 8123);
+  EXPECT_EQ(u.database, "trail_db");
+  EXPECT_EQ(u.cluster, "c1");
+}
+
+TEST(ClickHouseUrl, RefusesWhatIsWrongNamingTheOption) {
+  for (const char* bad :
+       {"http://h:1/db?cluster=c", "clickhouse://h:1", "clickhouse://h/db?cluster=c",
+        "clickhouse://h:0/db?cluster=c", "clickhouse://h:70000/db?cluster=c",
+        "clickhouse://h:1,/db?cluster=c", "clickhouse://h:1/db", "clickhouse://h:1/d-b?cluster=c",
+        "clickhouse://h:1/db?cluster=c;drop", "clickhouse://h:1/db?cluster=c&user=x",
+        "clickhouse://h'x:1/db?cluster=c", "clickhouse://:1/db?cluster=c"}) {
+    try {
+      ClickHouseUrl::parse(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::invalid_argument) << bad;
+      EXPECT_EQ(e.param(), "--store") << bad;
+    }
+  }
+}
+
+TEST(ClickHouseStoreMorton, InterleavesBitByBit) {
+  // A second implementation: one bit at a time.
+  auto slow = [](std::uint32_t x, std::uint32_t y) {
+    std::uint64_t m = 0;
+    for (int i = 0; i < 32; ++i)
+      m |= std::uint64_t((x >> i) & 1) << (2 * i) | std::uint64_t((y >> i) & 1) << (2 * i + 1);
+    return m;
+  };
+  std::mt19937 rng(7);
+  for (int k = 0; k < 10000; ++k) {
+    const std::uint32_t x = rng(), y = rng();
+    ASSERT_EQ(ClickHouseStore::morton(x, y), slow(x, y)) << x << " " << y;
+  }
+  EXPECT_EQ(ClickHouseStore::morton(0xffffffffu, 0), 0x5555555555555555ull);
+  EXPECT_EQ(ClickHouseStore::morton(0, 0xffffffffu), 0xaaaaaaaaaaaaaaaaull);
+  // The aligned z5 tile x16 y10 (256 px) is one Morton range starting at 392 << 54.
+  EXPECT_EQ(ClickHouseStore::morton(16u << 27, 10u << 27), 392ull << 54);
+}
+
+// ---- on the local cluster ------------------------------------------------------------------------------
+
+/// The URL of the cluster the ctest fixture `cluster_up` starts ($TRAILSCOPE_CLUSTER_URL overrides it).
+std::string cluster_url() {
+  const char* url = std::getenv("TRAILSCOPE_CLUSTER_URL");
+  return url ? url : TRAILSCOPE_CLUSTER_URL_DEFAULT;
+}
+
+#define REQUIRE_CLUSTER()                                                                        \
+  do {                                                                                           \
+    if (!fs::exists("/usr/sbin/clickhouse-server") && !fs::exists("/usr/bin/clickhouse-server")) \
+      GTEST_SKIP() << "clickhouse-server is not installed (make deps-test installs it)";         \
+  } while (0)
+
+std::shared_ptr<ClickHouseStore> open_cluster(bool leftovers = true) {
+  return std::make_shared<ClickHouseStore>(ClickHouseUrl::parse(cluster_url()), leftovers);
+}
+
+/// Every byte of the point columns and every flight field the store keeps.
+void expect_same_trails(const TrailSet& a, const TrailSet& b) {
+  ASSERT_EQ(a.num_points(), b.num_points());
+  ASSERT_EQ(a.num_flights(), b.num_flights());
+  auto same = [](const auto& x, const auto& y, const char* name) {
+    ASSERT_EQ(x.size(), y.size()) << name;
+    EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])), 0) << name << " differs";
+  };
+  same(a.points().t, b.points().t, "t");
+  same(a.points().lat, b.points().lat, "lat");
+  same(a.points().lon, b.points().lon, "lon");
+  same(a.points().alt, b.points().alt, "alt");
+  same(a.points().speed, b.points().speed, "speed");
+  same(a.points().track, b.points().track, "track");
+  same(a.points().vrate, b.points().vrate, "vrate");
+  same(a.points().on_ground, b.points().on_ground, "on_ground");
+  for (std::size_t f = 0; f < a.num_flights(); ++f) {
+    const Flight &x = a.flights()[f], &y = b.flights()[f];
+    ASSERT_TRUE(x.begin == y.begin && x.end == y.end && x.icao24 == y.icao24 && x.callsign == y.callsign)
+        << "flight " << f;
+  }
+}
+
+/// A router over `store` as an admin calls it.
+struct Side {
+  Side(std::shared_ptr<DatasetStore> s, const fs::path& root) : store(std::move(s)) {
+    fs::create_directories(root / "uploads");
+    router.token = TokenStore(root / "tokens.json").create("test-admin", Role::admin).token;
+    app = std::make_unique<App>(store, root / "uploads", fs::path(), limits::kTileCacheBytes, root);
+    router = make_router(*app);
+  }
+  Response get(const std::string& path, std::map<std::string, std::string> query = {}) const {
+    Request r;
+    r.method = "GET", r.path = path, r.query = std::move(query);
+    return router.handle(r);
+  }
+  std::shared_ptr<DatasetStore> store;
+  std::unique_ptr<App> app;
+  test_routes::AdminRouter router;
+};
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Both backends answer every read route with the same status, content type and bytes. Returns how many
+/// requests were compared.
+int expect_same_answers(const Side& a, const Side& b, const std::string& id, const TrailSet& t) {
+  const std::string base = "/api/v1/datasets/" + id;
+  const double t0 = t.t_min(), t1 = t.t_max(), mid = std::floor((t0 + t1) / 2);
+  auto num = [](double v) { return std::to_string(static_cast<long long>(v)); };
+  const std::string lon0 = std::to_string(t.lon_min()),
+                    lon1 = std::to_string((t.lon_min() + t.lon_max()) / 2),
+                    lat0 = std::to_string(t.lat_min()),
+                    lat1 = std::to_string((t.lat_min() + t.lat_max()) / 2);
+  std::vector<std::pair<std::string, std::map<std::string, std::string>>> reqs = {
+      {"/api/v1/datasets", {}},
+      {base, {}},
+      {base + "/summary", {}},
+      {base + "/summary", {{"t0", num(mid - 3600)}, {"t1", num(mid)}}},
+      {base + "/summary",
+       {{"t0", num(mid - 3600)}, {"t1", num(mid)}, {"bbox", lon0 + "," + lat0 + "," + lon1 + "," + lat1}}},
+      {base + "/summary", {{"alt_min", "20000"}, {"alt_max", "40000"}, {"bins", "12"}}},
+      {base + "/flights", {}},
+      {base + "/flights", {{"page", "3"}, {"page_size", "1000"}}},
+      {base + "/flights", {{"t0", num(mid - 1800)}, {"t1", num(mid)}, {"page_size", "1000"}}},
+      {base + "/flights", {{"callsign", "A"}}},
+      {base + "/flights/0", {}},
+      {base + "/flights/" + std::to_string(t.num_flights() / 2), {}},
+      {base + "/flights/" + std::to_string(t.num_flights() / 3), {{"max_points", "10"}}},
+      {base + "/positions", {{"t", num(mid)}}},
+      {base + "/positions", {{"t", num(mid - 7200)}, {"bbox", lon0 + "," + lat0 + "," + lon1 + "," + lat1}}},
+      {"/tiles/" + id + "/density/0/0/0.png", {}},
+      {"/tiles/" + id + "/density/3/4/2.png", {}},
+      {"/tiles/" + id + "/density/5/16/10.png", {{"t0", num(mid - 3600)}, {"t1", num(mid)}}},
+      {"/tiles/" + id + "/density/4/3/6.png", {}},
+  };
+  int n = 0;
+  for (const auto& [path, q] : reqs) {
+    const Response ra = a.get(path, q), rb = b.get(path, q);
+    std::string qs;
+    for (const auto& [k, v] : q) qs += k + "=" + v + "&";
+    EXPECT_EQ(ra.status, rb.status) << path << "?" << qs;
+    EXPECT_EQ(ra.content_type, rb.content_type) << path << "?" << qs;
+    // The summary reports its own run time (elapsed_ms): every other byte must match.
+    std::string ba = ra.bytes(), bb = rb.bytes();
+    if (ra.content_type == "application/json" && ra.status == 200) {
+      auto ja = nlohmann::json::parse(ba), jb = nlohmann::json::parse(bb);
+      if (ja.is_object() && ja.contains("elapsed_ms") && jb.contains("elapsed_ms")) {
+        EXPECT_TRUE(ja["elapsed_ms"].is_number() && jb["elapsed_ms"].is_number());
+        ja.erase("elapsed_ms"), jb.erase("elapsed_ms");
+        ba = ja.dump(), bb = jb.dump();
+      }
+    }
+    EXPECT_TRUE(ba == bb) << path << "?" << qs << ": " << ba.size() << " vs " << bb.size() << " bytes\n"
+                          << ba.substr(0, 400) << "\n"
+                          << bb.substr(0, 400);
+    EXPECT_TRUE(ra.status == 200 || ra.status == 413)
+        << path << "?" << qs << " → " << ra.status << " " << ra.bytes().substr(0, 300);
+    ++n;
+  }
+  return n;
+}
+
+/// Puts `ds` into an embedded store and into the cluster, reads it back through a freshly opened
+/// ClickHouse store (nothing cached), and compares rows and answers.
+void compare_backends(std::shared_ptr<Dataset> ds, const char* label) {
+  test::TempDir tmp;
+  auto embedded = std::make_shared<EmbeddedStore>(tmp.path() / "embedded");
+  embedded->put(ds);
+  {
+    auto cluster = open_cluster();
+    if (cluster->contains(ds->id)) cluster->remove(ds->id);
+    const auto t0 = std::chrono::steady_clock::now();
+    double last = 0;
+    cluster->put(ds, [&](double f, std::string_view) {
+      EXPECT_GE(f, last);
+      last = f;
+    });
+    const double ms = ms_since(t0);
+    EXPECT_DOUBLE_EQ(last, 1.0);
+    std::printf(
+        "%s: put %zu points, %zu flights into the cluster in %.0f ms (%.0f points/s, with segments)\n", label,
+        ds->trails->num_points(), ds->trails->num_flights(), ms, ds->trails->num_points() / (ms / 1000));
+  }
+  auto fresh = open_cluster();
+  ASSERT_TRUE(fresh->contains(ds->id));
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto back = fresh->get(ds->id);
+  std::printf("%s: fetched back in %.0f ms\n", label, ms_since(t0));
+  expect_same_trails(*ds->trails, *back->trails);
+  EXPECT_EQ(back->ingest, ds->ingest);
+  EXPECT_EQ(back->created, ds->created);
+  EXPECT_EQ(back->to_json(), ds->to_json());
+
+  const Side a(embedded, tmp.path() / "a"), b(fresh, tmp.path() / "b");
+  const int n = expect_same_answers(a, b, ds->id, *ds->trails);
+  std::printf("%s: %d answers byte-identical on both backends\n", label, n);
+
+  // Delete: gone from this store, from a fresh one, and its rows dropped on every shard.
+  fresh->remove(ds->id);
+  EXPECT_FALSE(fresh->contains(ds->id));
+  EXPECT_FALSE(open_cluster()->contains(ds->id));
+  const std::string q = " WHERE dataset = " + ClickHouseClient::quote(ds->id) + " FORMAT TSV";
+  for (const char* table : {"points", "segments", "flights"})
+    EXPECT_EQ(fresh->client().query("SELECT count() FROM " + fresh->database() + "." + table + q), "0\n")
+        << table;
+}
+
+TEST(ClickHouseStore, EuropeDayAnswersTheSameOnBothBackends) {
+  REQUIRE_CLUSTER();
+  const fs::path so6 = test::shared_data("flights/traffic_europe_20180101_m3.so6.gz");
+  if (!fs::exists(so6)) GTEST_SKIP() << so6 << " is absent";
+  ingest::IngestReport report;
+  auto ds = std::make_shared<Dataset>();
+  ds->trails = std::make_shared<const TrailSet>(ingest::ingest_file(so6.string(), {}, &report));
+  ds->id = "europe", ds->name = "Europe 2018-01-01", ds->format = "so6";
+  ds->created = "2026-11-26T10:00:00Z", ds->owner = "tester", ds->ingest = report.to_json();
+  compare_backends(ds, "Europe SO6 day");
+}
+
+TEST(ClickHouseStore, DemoDayAnswersTheSameOnBothBackends) {
+  REQUIRE_CLUSTER();
+  const fs::path src = test::source_dir() / "web/node_modules/vega-datasets/data";
+  if (!fs::exists(src / "airports.csv")) GTEST_SKIP() << src << " is absent (npm ci in web/)";
+  ingest::DemoOptions opts;
+  opts.airports_csv = (src / "airports.csv").string();
+  opts.routes_csv = (src / "flights-airport.csv").string();
+  opts.flights = 20000;
+  opts.seed = 42;
+  auto ds = std::make_shared<Dataset>();
+  ds->trails = std::make_shared<const TrailSet>(ingest::generate_demo_traffic(opts));
+  ds->id = "demo", ds->name = "demo", ds->format = "demo", ds->created = "2026-11-26T10:00:00Z";
+  ds->ingest = {{"generator", "demo_traffic"}, {"seed", 42}, {"flights", 20000}};
+  compare_backends(ds, "demo day");
+}
+
+TEST(ClickHouseStore, PutAgainAfterDeleteAndConflicts) {
+  REQUIRE_CLUSTER();
+  TrailSetBuilder b;
+  for (int i = 0; i < 50; ++i) {
+    Sample s;
+    s.t = 1514764800.0 + i * 10, s.lat = 52.0f + i * 0.01f, s.lon = 4.0f, s.alt = std::nanf("");
+    b.add("4ca1d0", "KLM1", s);
+  }
+  auto ds = std::make_shared<Dataset>();
+  ds->id = "it's-not", ds->trails = std::make_shared<const TrailSet>(b.build());
+  auto store = open_cluster();
+  EXPECT_THROW(store->put(ds), Error);  // not a valid id
+  ds->id = "small";
+  if (store->contains("small")) store->remove("small");
+  store->put(ds);
+  try {
+    store->put(ds);
+    ADD_FAILURE() << "a second put of the same id was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::conflict);
+  }
+  // The same rows again after a delete (replicated tables would skip identical blocks as duplicates).
+  store->remove("small");
+  store->put(ds);
+  expect_same_trails(*ds->trails, *open_cluster()->get("small")->trails);
+  store->remove("small");
+  try {
+    store->remove("small");
+    ADD_FAILURE() << "a second delete was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::not_found);
+  }
+}
+
+/// `trailscope ingest --store URL` killed (SIGKILL) at failpoint `point`; returns its wait status.
+int killed_ingest(const std::string& point, const std::string& name) {
+  const char* bin = std::getenv("TRAILSCOPE_BIN");
+  const std::string cmd = "TRAILSCOPE_FAILPOINT='" + point + "' '" + (bin ? bin : TRAILSCOPE_BIN_DEFAULT) +
+                          "' ingest --quiet --store '" + cluster_url() + "' --name " + name + " '" +
+                          test::shared_data("flights/traffic_europe_20180101_m3.so6.gz").string() +
+                          "' >/dev/null 2>&1";
+  return std::system(cmd.c_str());
+}
+
+TEST(ClickHouseStore, IngestKilledMidwayLeavesNothingVisible) {
+  REQUIRE_CLUSTER();
+  if (!fs::exists(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz")))
+    GTEST_SKIP() << "no SO6 day";
+  auto rows = [](ClickHouseStore& s, const std::string& id) {
+    std::string total;
+    for (const char* table : {"points", "segments", "flights"})
+      total += s.client().query("SELECT count() FROM " + s.database() + "." + table +
+                                " WHERE dataset = " + ClickHouseClient::quote(id) + " FORMAT TSV");
+    return total;
+  };
+  // After the first batch (the flights; no point yet), and after every row but before the catalogue row.
+  for (const auto& [point, id] :
+       {std::pair<std::string, std::string>{"clickhouse.insert.batch#1", "killed-mid"},
+        {"clickhouse.before_catalogue", "killed-late"}}) {
+    const int status = killed_ingest(point, id);
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL || WEXITSTATUS(status) == 128 + SIGKILL)
+        << point << ": status " << status;
+    // A CLI-like open (no leftover removal): rows are there, the dataset is not.
+    auto look = open_cluster(false);
+    EXPECT_FALSE(look->contains(id)) << point;
+    EXPECT_NE(rows(*look, id), "0\n0\n0\n") << point << ": the kill came before any row";
+    // The server's open removes them.
+    auto server = open_cluster(true);
+    EXPECT_FALSE(server->contains(id)) << point;
+    EXPECT_EQ(rows(*server, id), "0\n0\n0\n") << point;
+  }
+}
+
+TEST(ClickHouseStore, UnreachableNodesAreReportedNotHung) {
+  // Nothing listens on port 1: every node refused, Error(unavailable) at once.
+  ClickHouseClient client({{"127.0.0.1", 1}, {"127.0.0.1", 1}});
+  try {
+    client.query("SELECT 1");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::unavailable);
+    EXPECT_EQ(e.param(), "store");
+  }
+}
+
+TEST(ClickHouseStore, FailsOverToTheNextNode) {
+  REQUIRE_CLUSTER();
+  auto url = ClickHouseUrl::parse(cluster_url());
+  url.hosts.insert(url.hosts.begin(), ClickHouseEndpoint{"127.0.0.1", 1});  // a dead first node
+  ClickHouseClient client(url.hosts);
+  EXPECT_EQ(client.query("SELECT 1 FORMAT TSV"), "1\n");
+  try {
+    client.query("SELECT no_such_column FORMAT TSV");
+    ADD_FAILURE() << "no error";
+  } catch (const ClickHouseError& e) {
+    EXPECT_EQ(e.code(), 47) << e.what();  // UNKNOWN_IDENTIFIER
+  }
+}
+
+/// Runs tests/cluster/cluster.sh with `args` on the test cluster; true when it exits 0.
+bool cluster_script(const std::string& args) {
+  const char* script = std::getenv("CLUSTER_SCRIPT");  // a command line, e.g. "bash tests/cluster/cluster.sh"
+  return std::system(((script ? script : TRAILSCOPE_CLUSTER_SCRIPT) + std::string(" ") + args + " >/dev/null")
+                         .c_str()) == 0;
+}
+
+/// A dataset of `flights` straight flights of 200 points each, distinct per `seed`.
+std::shared_ptr<Dataset> straight_flights(const std::string& id, int flights, int seed) {
+  TrailSetBuilder b;
+  for (int f = 0; f < flights; ++f)
+    for (int i = 0; i < 200; ++i) {
+      Sample s;
+      s.t = 1514764800.0 + seed * 86400 + f * 7 + i * 10;
+      s.lat = 40.0f + 0.05f * f + 0.001f * i, s.lon = -5.0f + 0.01f * seed + 0.002f * i;
+      s.alt = 3000.0f + i, s.speed = 220, s.track = 80, s.vrate = i % 3 ? 0.0f : std::nanf("");
+      b.add("a" + std::to_string(10000 + f), "T" + std::to_string(f), s);
+    }
+  auto ds = std::make_shared<Dataset>();
+  ds->id = id, ds->name = id, ds->format = "test", ds->created = "2026-11-26T10:00:00Z";
+  ds->trails = std::make_shared<const TrailSet>(b.build());
+  return ds;
+}
+
+/// Rows of dataset `id` in `table`_local on node `k` (0..3) alone.
+std::string local_rows(int k, const std::string& table, const std::string& id) {
+  auto url = ClickHouseUrl::parse(cluster_url());
+  ClickHouseClient node({url.hosts.at(k)});
+  return node.query("SELECT count() FROM " + url.database + "." + table +
+                    "_local WHERE dataset = " + ClickHouseClient::quote(id) + " FORMAT TSV");
+}
+
+TEST(ClickHouseStoreFaults, OneReplicaPerShardDownThenBack) {
+  REQUIRE_CLUSTER();
+  auto store = open_cluster();
+  for (const char* id : {"before", "during"})
+    if (store->contains(id)) store->remove(id);
+  const auto before = straight_flights("before", 300, 1), during = straight_flights("during", 300, 2);
+  store->put(before);
+  const std::string rows = local_rows(0, "points", "before");
+  EXPECT_EQ(local_rows(1, "points", "before"), rows);  // the quorum insert is on both replicas at once
+
+  // Replica 2 of each shard (nodes 1 and 3) killed, and listed first: the client fails over, the
+  // Distributed reads pick the live replica of each shard.
+  ASSERT_TRUE(cluster_script("kill-node 1") && cluster_script("kill-node 3"));
+  auto url = ClickHouseUrl::parse(cluster_url());
+  url.hosts = {url.hosts[1], url.hosts[3], url.hosts[0], url.hosts[2]};
+  {
+    ClickHouseStore degraded(url);
+    ASSERT_TRUE(degraded.contains("before"));
+    expect_same_trails(*before->trails, *degraded.get("before")->trails);
+    // An ingest now cannot reach the quorum (every replica of a shard): refused, and nothing visible.
+    try {
+      degraded.put(during);
+      ADD_FAILURE() << "an ingest with a replica down was accepted";
+    } catch (const Error& e) {
+      std::printf("ingest with one replica per shard down refused: %s\n", e.what());
+    }
+    EXPECT_FALSE(degraded.contains("during"));
+    EXPECT_FALSE(ClickHouseStore(url).contains("during"));
+    // A delete while they are down: the catalogue row reaches the live replicas.
+    degraded.remove("before");
+    EXPECT_FALSE(ClickHouseStore(url).contains("before"));
+  }
+  // Back: they catch up with the delete (catalogue and rows) and the refused ingest leaves nothing.
+  ASSERT_TRUE(cluster_script("start-node 1") && cluster_script("start-node 3"));
+  bool caught_up = false;
+  for (int i = 0; i < 120 && !caught_up; ++i) {
+    caught_up = local_rows(1, "points", "before") == "0\n" && local_rows(3, "points", "before") == "0\n" &&
+                local_rows(1, "points", "during") == "0\n" && local_rows(3, "points", "during") == "0\n";
+    if (!caught_up) std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  EXPECT_TRUE(caught_up) << "the restarted replicas still hold rows of a deleted or refused dataset";
+  auto node1 = url;
+  node1.hosts = {url.hosts[0]};  // node 1 alone
+  EXPECT_FALSE(ClickHouseStore(node1).contains("before"));
+  // And the cluster takes ingests again, every replica holding them.
+  store = open_cluster();
+  store->put(during);
+  EXPECT_EQ(local_rows(1, "points", "during"), local_rows(0, "points", "during"));
+  EXPECT_EQ(local_rows(3, "points", "during"), local_rows(2, "points", "during"));
+  expect_same_trails(*during->trails, *open_cluster()->get("during")->trails);
+  store->remove("during");
+}
+
+}  // namespace
+}  // namespace trailscope::server
