@@ -1179,15 +1179,17 @@ int main(int argc, char** argv) {
            << str(r, "sectors") << " sectors) on a " << str(r, "grid")
            << "-cell Web Mercator grid, evenly spaced streamlines of each (Jobard and Lefer 1997), all of "
               "them bundled by CUBu (directional, on the "
-           << str(r, "bundle_path") << " path), drawn at level " << str(r, "level") << " ("
-           << str(r, "width") << " × " << str(r, "height") << " px). Median of " << str(r, "reps")
-           << " runs on " << str(r, "threads") << " threads; the phases are those of the last run.\n\n"
-           << "| streamlines | their points | field | streamlines | bundling | drawing | PNG | min | p50 | max | "
+           << str(r, "bundle_path") << " path), drawn at level " << str(r, "level") << " (" << str(r, "width")
+           << " × " << str(r, "height") << " px). Median of " << str(r, "reps") << " runs on "
+           << str(r, "threads") << " threads; the phases are those of the last run.\n\n"
+           << "| streamlines | their points | field | streamlines | bundling | drawing | PNG | min | p50 | "
+              "max | "
               "peak RSS |\n|---|---|---|---|---|---|---|---|---|---|---|\n"
            << "| " << grouped(r, "lines") << " | " << grouped(r, "line_points") << " | " << ms(r, "field_ms")
-           << " ms | " << ms(r, "lines_ms") << " ms | " << ms(r, "bundle_ms") << " ms | " << ms(r, "render_ms")
-           << " ms | " << ms(r, "png_ms") << " ms | " << num(dbl(r, "s_min"), 2) << " s | **" << num(s, 2)
-           << " s** | " << num(dbl(r, "s_max"), 2) << " s | " << grouped(r, "peak_rss_mib") << " MiB |\n\n";
+           << " ms | " << ms(r, "lines_ms") << " ms | " << ms(r, "bundle_ms") << " ms | "
+           << ms(r, "render_ms") << " ms | " << ms(r, "png_ms") << " ms | " << num(dbl(r, "s_min"), 2)
+           << " s | **" << num(s, 2) << " s** | " << num(dbl(r, "s_max"), 2) << " s | "
+           << grouped(r, "peak_rss_mib") << " MiB |\n\n";
     }
 
     // ---- fuzzing: the long run of every libFuzzer harness (tests/fuzz, `make fuzz-long`) ----------------
