@@ -252,14 +252,15 @@ TEST_F(ExportHand, CsvRowsQuotedAndUnknownsEmpty) {
   std::string quoted = "\"";
   for (char c : callsign) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
   quoted += "\"";
-  EXPECT_EQ(r.collect(),
+  const std::string text = r.collect();  // a streamed body is drawn once
+  EXPECT_EQ(text,
             "flight_id,icao24,callsign,t,lat,lon,alt_m,speed_ms,track_deg,vrate_ms,on_ground\n"
             "0,abc123," +
                 quoted +
                 ",1514764800,50.5,8.25,1000,100,,,0\n"
                 "0,abc123," +
                 quoted + ",1514764810,50.5,8.25,,,,,1\n");
-  EXPECT_EQ(csv_fields(lines(r.collect())[1])[2], callsign);
+  EXPECT_EQ(csv_fields(lines(text).at(1))[2], callsign);
   // An empty window: the header alone; GeoJSON: no features.
   const Response none = get("/api/v1/datasets/hand/export", {{"format", "csv"}, {"t0", "0"}, {"t1", "1"}});
   EXPECT_EQ(none.collect(),
@@ -281,9 +282,9 @@ TEST_F(ExportHand, Refusals) {
                 body(get("/api/v1/datasets/nope"))["detail"]);
   expect_detail(get("/api/v1/datasets/hand/summary", {{"format", "xml"}}), 400, "format",
                 "format must be 'json' or 'csv', got 'xml'");
-  expect_detail(
-      get("/api/v1/datasets/hand/summary", {{"format", "csv"}, {"table", "speeds"}}), 400, "table",
-      "table must be one of totals, time_histogram, altitude_histogram, top_callsigns, got 'speeds'");
+  expect_detail(get("/api/v1/datasets/hand/summary", {{"format", "csv"}, {"table", "speeds"}}), 400, "table",
+                "table must be one of totals, time_histogram, altitude_histogram, top_callsigns, quality, "
+                "got 'speeds'");
   expect_detail(get("/api/v1/datasets/hand/summary", {{"table", "totals"}}), 400, "table",
                 "table applies to format=csv only (the JSON holds every table)");
 }

@@ -177,9 +177,10 @@ class FlightsSortHand : public test_routes::RouteFixture {
   }
   std::vector<std::string> callsigns(const std::string& order) {
     std::vector<std::string> out;
-    for (const auto& f :
-         body(get("/api/v1/datasets/hand/flights", {{"sort", "alt_max_m"}, {"order", order}}))["flights"])
-      out.push_back(f["callsign"]);
+    const Response r = get("/api/v1/datasets/hand/flights", {{"sort", "alt_max_m"}, {"order", order}});
+    EXPECT_EQ(r.status, 200) << r.body;
+    const auto j = body(r);  // named: a range-for over a temporary's member would read freed memory
+    for (const auto& f : j["flights"]) out.push_back(f["callsign"]);
     return out;
   }
 };
