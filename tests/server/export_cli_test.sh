@@ -32,7 +32,9 @@ e --format csv > "$TMP/cli.csv"
 check "csv exit" 0 $?
 check "csv header" "flight_id,icao24,callsign,t,lat,lon,alt_m,speed_ms,track_deg,vrate_ms,on_ground" "$(head -1 "$TMP/cli.csv")"
 check "csv rows" 7 "$(wc -l < "$TMP/cli.csv")"
-check "csv unknown altitude is empty" "1,3c6444,DLH2,1514765400,50,8,,0,0,0,1" "$(grep -c . "$TMP/cli.csv" >/dev/null; sed -n 7p "$TMP/cli.csv")"
+# Flight ids by start time, then icao24: DLH2 (3c6444) is 0, KLM1's legs 1 and 2.
+check "csv unknown altitude is empty" "0,3c6444,DLH2,1514765400,50,8,,0,0,0,1" "$(sed -n 3p "$TMP/cli.csv")"
+check "csv second leg after the jump" "2,4ca1d0,KLM1,1514764980,62.2,4.2,2000,220,350,0,0" "$(sed -n 7p "$TMP/cli.csv")"
 e --format csv --t0 1514764860 --t1 1514764921 --callsign KLM > "$TMP/w.csv"
 check "csv window rows" 3 "$(wc -l < "$TMP/w.csv")"
 e > "$TMP/cli.geojson"
