@@ -41,12 +41,15 @@ Counts count(const TrailSet& set, double t0, double t1) {
   const auto& p = set.points();
   for (const Flight& f : set.flights())
     for (std::size_t i = f.begin; i < f.end; ++i) {
+      // The first report of the previous sample's position (stale repeats count from there).
+      std::size_t first = i > f.begin ? i - 1 : i;
+      while (first > f.begin && p.lat[first - 1] == p.lat[i - 1] && p.lon[first - 1] == p.lon[i - 1]) --first;
       if (!(p.t[i] >= t0 && p.t[i] < t1)) continue;
       if (p.speed[i] > kSpeedLimit) ++c.speed, c.max_speed = std::max<double>(c.max_speed, p.speed[i]);
       if (p.alt[i] > kAltLimit) ++c.alt, c.max_alt = std::max<double>(c.max_alt, p.alt[i]);
       if (i > f.begin && p.t[i - 1] >= t0) {
         const double v = chord_distance(p.lat[i - 1], p.lon[i - 1], p.lat[i], p.lon[i]) /
-                         std::max(p.t[i] - p.t[i - 1], 1.0);
+                         std::max(p.t[i] - p.t[first], 1.0);
         if (v > kSpeedLimit) ++c.jumps, c.max_jump = std::max(c.max_jump, v);
       }
     }

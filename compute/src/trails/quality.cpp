@@ -73,6 +73,7 @@ QualityReport check_quality(const TrailSet& set, const Query& q) {
           if (!q.may_match(f)) continue;
           const auto id = static_cast<std::uint32_t>(fi);
           bool prev = false;
+          double since = p.t[f.begin];  // first report of the previous sample's position
           for (std::size_t i = f.begin; i < f.end; ++i) {
             const bool pass = filter(p, i);
             if (pass) {
@@ -80,11 +81,12 @@ QualityReport check_quality(const TrailSet& set, const Query& q) {
               if (p.alt[i] > kMaxPlausibleAltitudeM) acc.add(1, id, p.t[i], p.alt[i]);
               if (prev) {
                 const double v =
-                    implied_speed_ms(p.t[i - 1], p.lat[i - 1], p.lon[i - 1], p.t[i], p.lat[i], p.lon[i]);
+                    implied_speed_ms(since, p.lat[i - 1], p.lon[i - 1], p.t[i], p.lat[i], p.lon[i]);
                 if (v > kMaxPlausibleSpeedMs) acc.add(2, id, p.t[i], v);
               }
             }
             prev = pass;
+            if (i > f.begin && (p.lat[i] != p.lat[i - 1] || p.lon[i] != p.lon[i - 1])) since = p.t[i];
           }
         }
         acc.trim();

@@ -87,11 +87,12 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, double jump_sp
     }
     samples.resize(w);
     std::size_t b = 0;
+    double since = samples.empty() ? 0.0 : samples[0].t;  // first report of samples[i - 1]'s position
     for (std::size_t i = 1; i <= samples.size(); ++i) {
       bool split = i == samples.size() || samples[i].t - samples[i - 1].t > gap_seconds, jump = false;
       if (!split && jump_speed_ms < std::numeric_limits<double>::infinity()) {
         const Sample &a = samples[i - 1], &c = samples[i];
-        const double v = implied_speed_ms(a.t, a.lat, a.lon, c.t, c.lat, c.lon);
+        const double v = implied_speed_ms(since, a.lat, a.lon, c.t, c.lat, c.lon);
         if (v > jump_speed_ms) {
           split = jump = true;
           ++local.jump_splits;
@@ -103,6 +104,9 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, double jump_sp
         if (i != samples.size() && !jump) ++local.splits;
         b = i;
       }
+      if (i < samples.size() &&
+          (samples[i].lat != samples[i - 1].lat || samples[i].lon != samples[i - 1].lon))
+        since = samples[i].t;
     }
   }
   std::sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {

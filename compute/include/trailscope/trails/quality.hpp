@@ -6,9 +6,12 @@
 //    jet streams reach about 720 kt over the ground;
 //  - altitude above kMaxPlausibleAltitudeM (FL600, 60,000 ft): above every civil service ceiling (the
 //    highest, business jets, certify to FL510);
-//  - a position jump: consecutive samples of one flight whose great-circle distance over their time
-//    difference (taken as at least kMinJumpSeconds, the coarsest clock of the formats) exceeds
-//    kMaxPlausibleSpeedMs — a position no aircraft could have reached since the previous one.
+//  - a position jump: consecutive samples of one flight whose great-circle distance over the time since
+//    the previous position was FIRST reported (taken as at least kMinJumpSeconds, the coarsest clock of
+//    the formats) exceeds kMaxPlausibleSpeedMs — a position no aircraft could have reached since the
+//    previous one. Position reports repeat a stale position for seconds and then catch up (OpenSky's
+//    state vectors between position updates); measured from the last repeat, every catch-up would look
+//    like a jump, so the time counts from the repeated position's first report.
 // Distances are on the sphere of radius kEarthMeanRadiusM (haversine; the mean radius of WGS84, IUGG),
 // whose error against the ellipsoid (< 0.5 %) is far below the margin of the speed limit.
 #include <cstdint>
