@@ -23,7 +23,7 @@ time,icao24,lat,lon,velocity,heading,vertrate,callsign,onground,baroaltitude
 1514764800,3c6444,50,8,0,0,0,DLH2,true,100
 1514765400,3c6444,50,8,0,0,0,DLH2,true,
 CSV
-"$BIN" ingest "$TMP/x.csv" --name x --data-dir "$TMP/data" --quiet > "$TMP/ingest.txt"
+"$BIN" ingest "$TMP/x.csv" --name x --data-dir "$TMP/data" --quiet --split-jumps true > "$TMP/ingest.txt"
 check "ingest exit" 0 $?
 contains "ingest names the split" "1 flights split at jumps" "$TMP/ingest.txt"
 e() { "$BIN" export x --data-dir "$TMP/data" "$@"; }

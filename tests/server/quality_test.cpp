@@ -185,9 +185,9 @@ TEST_F(QualityUpload, SplitJumpsOptionRefusal) {
   EXPECT_EQ(body(r)["detail"], "split_jumps must be 'true' or 'false', got 'yes'");
 }
 
-// A position report jumping 10° in 10 s is split by default; asked not to, it stays one flight with the
-// jump reported.
-TEST(QualityIngest, PositionReportsSplitAtJumpsByDefault) {
+// A position report jumping 10° in 10 s is split when asked; by default it stays one flight with the jump
+// reported.
+TEST(QualityIngest, PositionReportsSplitAtJumpsOnRequest) {
   test::TempDir tmp;
   const auto csv = tmp.path() / "jump.csv";
   {
@@ -199,7 +199,9 @@ TEST(QualityIngest, PositionReportsSplitAtJumpsByDefault) {
         << ",8.0,200,0,0,JMP1,false,false,false,1000,10000,10000,0,0\n";
   }
   ingest::IngestReport split, kept;
-  const TrailSet a = ingest::ingest_file(csv.string(), {}, &split);
+  ingest::IngestOptions on;
+  on.split_jumps = true;
+  const TrailSet a = ingest::ingest_file(csv.string(), on, &split);
   EXPECT_EQ(a.num_flights(), 2u);
   EXPECT_EQ(split.jump_splits.count, 1u);
   ASSERT_EQ(split.jump_splits.examples.size(), 1u);
@@ -208,9 +210,7 @@ TEST(QualityIngest, PositionReportsSplitAtJumpsByDefault) {
   // ~10° of latitude in 10 s, by the chord formula here.
   const double d = chord_distance(50.02, 8, 60.03, 8);
   EXPECT_NEAR(split.jump_splits.examples[0].value, d / 10, 1e-6 * d);
-  ingest::IngestOptions opts;
-  opts.split_jumps = false;
-  const TrailSet b = ingest::ingest_file(csv.string(), opts, &kept);
+  const TrailSet b = ingest::ingest_file(csv.string(), {}, &kept);
   EXPECT_EQ(b.num_flights(), 1u);
   EXPECT_EQ(kept.jump_splits.count, 0u);
   EXPECT_EQ(kept.quality.jumps.count, 1u);

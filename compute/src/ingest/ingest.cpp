@@ -107,10 +107,9 @@ TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestR
 
   if (opts.progress) opts.progress(0.0, "assemble");
   TrailSetBuilder::Stats stats;
-  TrailSet set = builder.build(&stats, ctx.gap_seconds,
-                               opts.split_jumps.value_or(rep.format != Format::so6)
-                                   ? kMaxPlausibleSpeedMs
-                                   : std::numeric_limits<double>::infinity());
+  TrailSet set = builder.build(
+      &stats, ctx.gap_seconds,
+      opts.split_jumps.value_or(false) ? kMaxPlausibleSpeedMs : std::numeric_limits<double>::infinity());
   if (opts.cancel) opts.cancel->throw_if_cancelled();
   if (opts.progress) opts.progress(1.0, "assemble");
 

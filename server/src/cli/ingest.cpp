@@ -27,10 +27,8 @@ void add_ingest(CLI::App& app) {
                   "opensky_csv | traffic_json | so6 | readsb_trace (default: detected)");
   cmd->add_flag("--json", o->json, "print the dataset and its ingest report as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
-  cmd->add_option(
-      "--split-jumps", o->split_jumps,
-      "true | false: split flights at position jumps implying more than 800 kt (default: true for "
-      "position reports, false for SO6)");
+  cmd->add_option("--split-jumps", o->split_jumps,
+                  "true | false: split flights at position jumps implying more than 800 kt (default false)");
   cmd->callback([o] {
     server::IngestRequest req;
     req.file = o->file;

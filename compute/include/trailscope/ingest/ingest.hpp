@@ -84,9 +84,9 @@ struct IngestOptions {
   /// Not used for SO6 (see above).
   double gap_seconds = limits::kFlightGapSeconds;
   /// Split a flight where consecutive samples imply a speed above kMaxPlausibleSpeedMs (a position jump,
-  /// trails/quality.hpp). Unset: on for the position reports (opensky_csv, traffic_json, readsb_trace),
-  /// where a jump is a bad position or two aircraft under one address; off for SO6, whose flight_id is
-  /// authoritative and whose jumps are reported (IngestReport::quality) but kept.
+  /// trails/quality.hpp). Unset: off for every format (jumps are reported in IngestReport::quality but
+  /// kept): the per-step criterion still cuts real position reports apart (the traffic library's
+  /// Belevingsvlucht sample into 172 pieces), so splitting is asked for, not the default, until it does not.
   std::optional<bool> split_jumps;
   /// Called on the caller's thread with (fraction of the compressed file consumed, "parse") about every
   /// 65,536 rows and (1, "parse") when parsing ends, then (0, "assemble") and (1, "assemble") around
