@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   trailscope::cli::add_token(app);
   trailscope::cli::add_gaze(app);
   trailscope::cli::add_flow(app);
+  trailscope::cli::add_export(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

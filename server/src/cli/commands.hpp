@@ -28,6 +28,8 @@ void add_token(CLI::App& app);
 void add_gaze(CLI::App& app);
 /// `trailscope flow` (cli/flow.cpp): the flow map of a dataset's traffic or of an uploaded field.
 void add_flow(CLI::App& app);
+/// `trailscope export`: the window's flights as GeoJSON or CSV (cli/export.cpp).
+void add_export(CLI::App& app);
 
 /// The airspace-window filters shared by `query` and `tile` (--bbox --t0 --t1 --alt-min --alt-max
 /// --alt-unit --icao24 --callsign --on-ground), collected as the REST API's parameter map so that
