@@ -24,6 +24,9 @@ Response get_job(App& app, const Request& req, const PathParams& p);
 Response cancel_job(App& app, const Request& req, const PathParams& p);
 
 Response density_tile(App& app, const Request& req, const PathParams& p);
+/// The colour span the density tiles of a zoom are shaded with (lo, hi, and the eq_hist distribution),
+/// for the dashboard's legend: GET /api/v1/datasets/{dataset}/density/scale.
+Response density_scale(App& app, const Request& req, const PathParams& p);
 /// The thresholded congestion map of simultaneous aircraft (trailscope/congestion/congestion_map.hpp).
 Response congestion_tile(App& app, const Request& req, const PathParams& p);
 

@@ -66,7 +66,10 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/jobs/{job}", bind(get_job));        // 200 404
   r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));  // 200 404
   r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile))
-      .on(Lane::compute);                                     // 200 304 400 404
+      .on(Lane::compute);  // 200 304 400 404
+  // The density tiles' colour span of one zoom, for legends that read values (routes/tiles.cpp).
+  r.add("GET", "/api/v1/datasets/{dataset}/density/scale", bind(density_scale))
+      .on(Lane::compute);                                     // 200 400 404
   r.add("GET", "/api/v1/graphs", list_handler(app, graphs));  // 200
   r.add("POST", "/api/v1/graphs", bind(create_graph), upload(limits::kMaxGraphUploadBytes, "graph upload"))
       .checked_first(check(create_graph_check));                           // 201 400 413 415 422

@@ -36,4 +36,42 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
                     [&] { return std::move(app.density.render_tile(*ds->trails, dataset_key, q, t).png); });
 }
 
+Response density_scale(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, params::with_query_keys({"z", "value", "how", "size", "kernel"}));
+  const auto ds = app.store->get(p.at("dataset"));
+  const Query q = parse_query(req.query);
+  density::TileRequest t;
+  const int z = static_cast<int>(params::integer(req, "z", 0, limits::kMinZoom, limits::kMaxZoom));
+  t.tile = geo::TileId{z, 0, 0};
+  t.size = static_cast<int>(
+      params::integer(req, "size", limits::kTileSizeSmall, limits::kTileSizeSmall, limits::kTileSizeLarge));
+  if (t.size != limits::kTileSizeSmall && t.size != limits::kTileSizeLarge)
+    throw invalid_argument("size", "size must be 256 or 512");
+  const std::string value = params::text(req, "value", "count"), how = params::text(req, "how", "eq_hist");
+  t.value = density::parse_density_value(value, "value");
+  t.how = density::parse_how(how, "how");
+  t.kernel_radius = static_cast<int>(params::integer(req, "kernel", 0, 0, limits::kMaxKernelRadiusPx));
+  // The same gap rule as density_tile: the legend describes exactly the span those tiles are shaded with.
+  t.max_gap_seconds = std::numeric_limits<double>::infinity();
+  bool cached = false;
+  const auto span =
+      app.density.span_for(*ds->trails, params::dataset_cache_key(ds->id, ds->created), q, t, &cached);
+  nlohmann::json j = {{"dataset", ds->id},
+                      {"query", q.canonical()},
+                      {"z", z},
+                      {"value", value},
+                      {"how", how},
+                      {"unit", value == "count"      ? "segments"
+                               : value == "altitude" ? "m"
+                                                     : "m/s"},
+                      {"empty", span->empty},
+                      {"lo", span->lo},
+                      {"hi", span->hi},
+                      {"samples", span->samples},
+                      {"cdf_values", span->cdf_values},
+                      {"cdf", span->cdf},
+                      {"cached", cached}};
+  return Response::json(200, j);
+}
+
 }  // namespace trailscope::server::handlers
