@@ -1,6 +1,7 @@
 // Typed client for the TrailScope REST API (same origin as the page: requests carry the session cookie).
 import { notifyUnauthorized } from './session';
 
+import type { DensitySpan } from '../lib/legend';
 import type {
   ApiErrorBody,
   Bundle,
@@ -96,6 +97,14 @@ export const api = {
     return request<Summary>(withQuery(`${ds(id)}/summary`, q), { signal });
   },
 
+  /** The colour span of the density tiles at zoom z (the legend's values). */
+  densityScale(id: string, query: URLSearchParams, z: number, r: { value: string; how: string }, signal?: AbortSignal) {
+    const q = new URLSearchParams(query);
+    q.set('z', String(z));
+    q.set('value', r.value);
+    q.set('how', r.how);
+    return request<DensitySpan>(withQuery(`${ds(id)}/density/scale`, q), { signal });
+  },
   flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal) {
     const q = new URLSearchParams(query);
     q.set('page', String(page));

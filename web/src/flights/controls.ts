@@ -3,7 +3,6 @@
 import { COLORMAPS, DENSITY_HOWS, DENSITY_VALUES, EMPTY_FILTERS, normalizeBBox, type OnGround } from '../api/query';
 import type { Colormap, Dataset, DensityHow, DensityValue } from '../api/types';
 import type { AppState, Store } from './state';
-import { COLORMAP_STOPS, cssGradient } from '../lib/colors';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { formatCompact, formatInt, formatUtc } from '../lib/format';
 import type { ErrorSlots } from './errors';
@@ -190,15 +189,8 @@ export class Controls {
       this.value.value = s.render.value;
       this.how.value = s.render.how;
       this.cmap.value = s.render.cmap;
-      const stops = COLORMAP_STOPS[s.render.cmap];
-      const low = s.render.value === 'count' ? 'few' : 'low';
-      const high = s.render.value === 'count' ? 'many points' : s.render.value === 'altitude' ? 'high' : 'fast';
-      mount(
-        this.legend,
-        h('span', { class: 'legend-label' }, low),
-        h('span', { class: 'legend-bar', style: `background:${cssGradient(stops)}`, role: 'img', 'aria-label': `${CMAP_LABELS[s.render.cmap]} colour scale, ${HOW_LABELS[s.render.how]}` }),
-        h('span', { class: 'legend-label' }, high),
-      );
+      // The legend that reads values sits on the map (densityLegend.ts): it needs the zoom's span.
+      mount(this.legend, h('span', { class: 'hint' }, `${CMAP_LABELS[s.render.cmap]}, ${HOW_LABELS[s.render.how]}: values in the legend on the map`));
     }
   }
 

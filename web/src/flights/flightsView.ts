@@ -15,6 +15,7 @@ import { BundlePanel } from './bundlePanel';
 import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
 import { SummaryView } from './summary';
+import { DensityLegend } from './densityLegend';
 import { TimeBrush } from './timeBrush';
 import { Clock, parsePlayback, writePlayback } from './clock';
 import { COLOR_BYS, PlaybackView } from './playback';
@@ -78,6 +79,9 @@ export class FlightsView {
   private readonly card: FlightCard;
   private readonly jobs: JobsView;
   private readonly bundles: BundlePanel;
+  private readonly legend: DensityLegend;
+  /** The last query the server accepted (tiles and the legend follow it), without bbox. */
+  private acceptedQuery: URLSearchParams | null = null;
   /** The one time cursor of the dashboard (clock.ts): playback, the histogram's cursor and every time layer. */
   readonly clock: Clock;
   private readonly playback: PlaybackView;
@@ -105,11 +109,13 @@ export class FlightsView {
     this.map = new MapView(byId('map'), {
       onViewChange: (bbox) => {
         this.store.set({ mapBBox: bbox });
+        this.updateLegend();
         this.writeHash();
       },
       onTileError: (err) => this.errors.show('tiles', err),
       onTilesOk: () => this.errors.clear('tiles'),
     });
+    this.legend = new DensityLegend(byId('map-area'));
     this.clock = new Clock({ t: extra.playback.at ?? NaN, speed: extra.playback.speed });
 
     new Controls(byId('dataset-section'), byId('filter-section'), byId('render-section'), this.store, this.errors);
@@ -286,6 +292,8 @@ export class FlightsView {
     this.summary.setEmpty(message);
     this.flights.setEmpty(message);
     this.brush.setMessage('empty', message);
+    this.acceptedQuery = null;
+    this.updateLegend();
     this.map.setDensity(null);
   }
 
@@ -332,7 +340,9 @@ export class FlightsView {
   private afterSummary(d: Dataset, summary?: Summary) {
     const s = this.store.get();
     const eff = this.store.effectiveFilters();
-    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, buildQuery(eff, { withoutBBox: true }), s.render));
+    this.acceptedQuery = buildQuery(eff, { withoutBBox: true });
+    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, this.acceptedQuery, s.render));
+    this.updateLegend();
     const q = buildQuery(eff);
     const key = `${d.id}?${q.toString()}`;
     const qNoTime = buildQuery(eff, { withoutTime: true });
@@ -352,6 +362,12 @@ export class FlightsView {
       this.flightPage = 0;
       this.loadFlights();
     }
+  }
+
+  /** The density legend of the accepted query at the map's zoom. */
+  private updateLegend() {
+    const d = this.store.dataset();
+    this.legend.update(d?.id ?? null, d ? this.acceptedQuery : null, this.store.get().render, this.map.map.getZoom());
   }
 
   private async loadSummary(d: Dataset, q: URLSearchParams) {

@@ -1,0 +1,83 @@
+import { describe, expect, it } from 'vitest';
+import { densityTicks, dropCrowded, eqHistQuantile, linearTicks, normalizeSpan, type DensitySpan } from './legend';
+
+/** The span of samples [1, 1, 1, 2, 3, 10] (as the server builds it: distinct values, fraction <= each). */
+const SPAN: DensitySpan = {
+  empty: false,
+  lo: 1,
+  hi: 10,
+  samples: 6,
+  cdf_values: [1, 2, 3, 10],
+  cdf: [3 / 6, 4 / 6, 5 / 6, 1],
+  value: 'count',
+  how: 'eq_hist',
+  z: 5,
+};
+
+describe('normalizeSpan (the server shade.hpp formulas)', () => {
+  it('linear and log by their formulas, clamped at the ends', () => {
+    expect(normalizeSpan(SPAN, 5.5, 'linear')).toBeCloseTo(0.5, 12);
+    expect(normalizeSpan(SPAN, 0, 'linear')).toBe(0);
+    expect(normalizeSpan(SPAN, 99, 'log')).toBe(1);
+    // log1p: (ln 4 − ln 2) / (ln 11 − ln 2)
+    expect(normalizeSpan(SPAN, 3, 'log')).toBeCloseTo((Math.log(4) - Math.log(2)) / (Math.log(11) - Math.log(2)), 12);
+  });
+  it('eq_hist: the fraction of samples <= v, rescaled so lo is 0', () => {
+    // v = 2: cdf 4/6; (4/6 − 3/6) / (1 − 3/6) = 1/3
+    expect(normalizeSpan(SPAN, 2, 'eq_hist')).toBeCloseTo(1 / 3, 12);
+    // v = 6.5: halfway between 3 (5/6) and 10 (1) → 11/12; (11/12 − 1/2) / (1/2) = 5/6
+    expect(normalizeSpan(SPAN, 6.5, 'eq_hist')).toBeCloseTo(5 / 6, 12);
+  });
+});
+
+describe('eqHistQuantile', () => {
+  it('inverts normalizeSpan along the bar', () => {
+    expect(eqHistQuantile(SPAN, 0)).toBe(1);
+    expect(eqHistQuantile(SPAN, 1)).toBe(10);
+    expect(eqHistQuantile(SPAN, 0.5)).toBeCloseTo(2.5, 12); // c = 0.75, between 2 (4/6) and 3 (5/6)
+    for (const p of [0.1, 0.3, 0.5, 0.7, 0.9]) expect(normalizeSpan(SPAN, eqHistQuantile(SPAN, p), 'eq_hist')).toBeCloseTo(p, 9);
+  });
+});
+
+describe('densityTicks', () => {
+  it('eq_hist: quantile labels at 0, 25, 50, 75, 100 % of the bar', () => {
+    const t = densityTicks(SPAN, 'eq_hist');
+    expect(t.map((x) => x.at)).toEqual([0, 0.25, 0.5, 0.75, 1]);
+    expect(t[0]!.label).toBe('1');
+    expect(t[2]!.label).toBe('2.5');
+    expect(t[4]!.label).toBe('10');
+  });
+  it('linear: round values where the linear formula puts them, ends labelled', () => {
+    const t = densityTicks({ ...SPAN, lo: 0, hi: 1000, how: 'linear' }, 'linear');
+    for (const x of t) expect(x.at).toBeCloseTo(Number(x.label.replace(/,/g, '')) / 1000, 12);
+    expect(t[0]!.label).toBe('0');
+    expect(t[t.length - 1]!.label).toBe('1,000');
+  });
+  it('altitude in flight levels, speed in knots', () => {
+    const alt = densityTicks({ ...SPAN, value: 'altitude', lo: 0, hi: 12192 }, 'linear');
+    expect(alt[alt.length - 1]!.label).toBe('FL400');
+    expect(alt.every((x) => /^FL\d{3}$/.test(x.label))).toBe(true);
+    const spd = densityTicks({ ...SPAN, value: 'speed', lo: 0, hi: 257.2222 }, 'linear');
+    expect(spd[spd.length - 1]!.label).toBe('500 kt');
+  });
+  it('an empty span has no ticks; a single value one tick', () => {
+    expect(densityTicks({ ...SPAN, empty: true }, 'linear')).toEqual([]);
+    expect(densityTicks({ ...SPAN, lo: 4, hi: 4 }, 'linear')).toEqual([{ at: 0.5, label: '4' }]);
+  });
+});
+
+describe('linearTicks and dropCrowded', () => {
+  it('round values between the ends', () => {
+    expect(linearTicks(0, 40000, 4, String).map((t) => t.label)).toEqual(['0', '10000', '20000', '30000', '40000']);
+  });
+  it('drops a tick too close to the previous one, keeping the last', () => {
+    const t = dropCrowded([
+      { at: 0, label: 'a' },
+      { at: 0.05, label: 'b' },
+      { at: 0.5, label: 'c' },
+      { at: 0.95, label: 'd' },
+      { at: 1, label: 'e' },
+    ]);
+    expect(t.map((x) => x.label)).toEqual(['a', 'c', 'e']);
+  });
+});
