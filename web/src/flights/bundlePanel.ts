@@ -3,7 +3,7 @@
 // raw/bundled toggle with a relaxation slider that blends on the client (no recomputation).
 
 import { ApiError, api, bundleTileTemplate, isAbort } from '../api/client';
-import { buildQuery } from '../api/query';
+import { buildQuery, validateFilters } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { blendSource, decodeTsbl } from './tsbl';
@@ -165,6 +165,12 @@ export class BundlePanel {
     // The window as the dashboard shows it, in the view's extent: bundling happens in the view's pixels.
     const s = this.store.get();
     const filters = { ...this.store.effectiveFilters(), bbox: s.mapBBox ?? this.store.effectiveFilters().bbox };
+    const problem = validateFilters(filters);
+    if (problem) {
+      // Never sent: the filter's own inline error already says what to fix.
+      this.errors.show('bundle', new ApiError(400, { error: 'invalid_argument', ...problem }));
+      return;
+    }
     this.errors.clear('bundle');
     this.startBtn.disabled = true;
     try {

@@ -46,6 +46,8 @@ interface HashState {
   datasetId: string | null;
   view: { lng: number; lat: number; zoom: number } | null;
   flight: number | null;
+  /** The time axis's zoomed view (`tview=start,end`), null for the whole data set. */
+  timeView: { start: number; end: number } | null;
   /** The playback instant (`at`: the playback view is open), speed, tail and colour-by. */
   playback: ReturnType<typeof parsePlayback> & { colorBy: ColorBy };
 }
@@ -58,12 +60,14 @@ function readHash(): { state: Partial<AppState>; extra: HashState } {
   const view = q.get('view')?.split(',').map(Number);
   const flight = Number(q.get('flight'));
   const color = q.get('color');
+  const tview = q.get('tview')?.split(',').map(Number);
   return {
     state: { filters, render: parseRender(q), useMapView },
     extra: {
       datasetId: q.get('dataset'),
       view: view && view.length === 3 && view.every(Number.isFinite) ? { lng: view[0]!, lat: view[1]!, zoom: view[2]! } : null,
       flight: q.has('flight') && Number.isInteger(flight) ? flight : null,
+      timeView: tview && tview.length === 2 && tview.every(Number.isFinite) && tview[1]! > tview[0]! ? { start: tview[0]!, end: tview[1]! } : null,
       playback: { ...parsePlayback(q), colorBy: COLOR_BYS.find((c) => c === color) ?? 'altitude' },
     },
   };
@@ -125,7 +129,12 @@ export class FlightsView {
     this.brush = new TimeBrush(byId('timeline'), {
       onWindow: (w) => this.store.setFilters({ t0: w?.start ?? null, t1: w?.end ?? null }),
       onCursor: (t) => this.clock.seek(t),
+      onView: () => {
+        this.syncHistogram();
+        this.writeHash();
+      },
     });
+    if (extra.timeView) this.brush.setView(extra.timeView);
     const timeError = h('div', { id: 'time-error' });
     byId('timeline').querySelector('.brush-head')!.append(timeError);
     this.errors.register(['t0', 't1', 'bins'], timeError);
@@ -345,18 +354,7 @@ export class FlightsView {
     this.updateLegend();
     const q = buildQuery(eff);
     const key = `${d.id}?${q.toString()}`;
-    const qNoTime = buildQuery(eff, { withoutTime: true });
-    const histKey = `${d.id}?${qNoTime.toString()}`;
-    if (histKey !== this.histKey) {
-      this.histKey = histKey;
-      // Without a time window the summary's own histogram is the brush's histogram.
-      if (summary && histKey === key) {
-        this.histCh.cancel();
-        this.brush.setData(summary.time_histogram, d.t_min, d.t_max);
-      } else {
-        void this.loadHistogram(d, qNoTime);
-      }
-    }
+    this.syncHistogram(summary);
     if (key !== this.flightsKey) {
       this.flightsKey = key;
       this.flightPage = 0;
@@ -384,6 +382,33 @@ export class FlightsView {
       const err = e instanceof ApiError ? e : new ApiError(0, { error: 'client', detail: String(e) });
       this.errors.show('query', err);
       this.summary.setError(err.param ? 'Fix the highlighted filter to update the view.' : err.detail);
+    }
+  }
+
+  /**
+   * The brush's histogram: of everything but time over the axis's view (the whole data set unless zoomed),
+   * asked for again when the filters or the view change.
+   */
+  private syncHistogram(summary?: Summary) {
+    const d = this.store.dataset();
+    if (!d || this.acceptedQuery === null) return;
+    const eff = this.store.effectiveFilters();
+    const key = `${d.id}?${buildQuery(eff).toString()}`;
+    const qHist = buildQuery(eff, { withoutTime: true });
+    const view = this.brush.getView();
+    if (view) {
+      qHist.set('t0', String(Math.floor(view.start)));
+      qHist.set('t1', String(Math.ceil(view.end)));
+    }
+    const histKey = `${d.id}?${qHist.toString()}`;
+    if (histKey === this.histKey) return;
+    this.histKey = histKey;
+    // Without a time window or zoom the summary's own histogram is the brush's histogram.
+    if (summary && histKey === key) {
+      this.histCh.cancel();
+      this.brush.setData(summary.time_histogram, d.t_min, d.t_max);
+    } else {
+      void this.loadHistogram(d, qHist);
     }
   }
 
@@ -484,6 +509,8 @@ export class FlightsView {
     const c = this.map.map.getCenter();
     p.set('view', `${c.lng.toFixed(4)},${c.lat.toFixed(4)},${this.map.map.getZoom().toFixed(2)}`);
     if (s.selectedFlight !== null) p.set('flight', String(s.selectedFlight));
+    const tv = this.brush.getView();
+    if (tv) p.set('tview', `${Math.floor(tv.start)},${Math.ceil(tv.end)}`);
     const c0 = this.clock.get();
     writePlayback(p, { at: this.playback.isOn() ? c0.t : null, speed: c0.speed, tail: this.playback.tailSeconds() });
     if (this.playback.isOn()) p.set('color', this.playback.color());
