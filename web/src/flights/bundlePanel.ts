@@ -30,7 +30,11 @@ export class BundlePanel {
   private readonly sliderValue: HTMLElement;
   private readonly modeInputs: Record<Mode, HTMLInputElement>;
   private job: Job | null = null;
+  /** The inputs (data set, filters without the view box, parameters) the current bundle was made from. */
+  private madeFrom: string | null = null;
+  private readonly staleBox: HTMLElement;
   private pendingBundle: string | null = null;
+  private pendingInputs: string | null = null;
   private bundle: Bundle | null = null;
   private mode: Mode = 'raw';
   private relaxation = 0;
@@ -89,12 +93,22 @@ export class BundlePanel {
       h('label', { class: 'field-label', for: 'bundle-relaxation' }, 'Relaxation', h('span', { class: 'hint' }, 'bundled → raw'), this.sliderValue),
       this.slider,
     );
+    const recompute = h('button', { type: 'button', class: 'link-button', 'data-testid': 'bundle-recompute' }, 'Recompute');
+    recompute.addEventListener('click', () => void this.start());
+    this.staleBox = h(
+      'div',
+      { class: 'stale-line', 'data-testid': 'bundle-stale', hidden: true, role: 'status' },
+      h('span', { class: 'stale-mark' }, 'stale'),
+      h('span', { class: 'small muted' }, ' the time window, filters or parameters changed since this bundle was made '),
+      recompute,
+    );
     const errorSlot = h('div', { id: 'bundle-error' });
     root.append(
       sectionHead('Bundling', h('span', { class: 'section-meta' }, 'CUBu')),
       this.paramsBox,
       h('div', { class: 'bundle-actions' }, this.startBtn),
       errorSlot,
+      this.staleBox,
       this.status,
       this.result,
       this.viewBox,
@@ -104,6 +118,7 @@ export class BundlePanel {
     store.subscribe((s, prev) => {
       if (s.datasetId !== prev.datasetId) this.reset();
       this.startBtn.disabled = !this.canStart();
+      this.syncStale();
     });
   }
 
@@ -133,6 +148,8 @@ export class BundlePanel {
     } else {
       el = h('input', { id, type: 'text', inputmode: 'decimal', placeholder: info.default, autocomplete: 'off', 'data-param': info.name, 'data-testid': id });
     }
+    el.addEventListener('input', () => this.syncStale());
+    el.addEventListener('change', () => this.syncStale());
     const err = h('div', { id: `${id}-error` });
     this.errors.register([info.name], err);
     this.inputs.set(info.name, { info, el });
@@ -155,6 +172,20 @@ export class BundlePanel {
     return out;
   }
 
+  /** What a bundle started now would be made from (the view box aside: panning shows, not changes, it). */
+  private inputsKey(): string {
+    const d = this.store.dataset();
+    const f = { ...this.store.effectiveFilters(), bbox: null };
+    return `${d?.id ?? ''}?${buildQuery(f).toString()}#${JSON.stringify(this.params())}`;
+  }
+
+  /** Marks the shown bundle stale once its inputs differ from the dashboard's (one click recomputes). */
+  private syncStale() {
+    const stale = this.madeFrom !== null && this.bundle !== null && this.madeFrom !== this.inputsKey();
+    this.staleBox.hidden = !stale;
+    this.root.dataset.stale = String(stale);
+  }
+
   private canStart(): boolean {
     return this.inputs.size > 0 && this.store.dataset() !== null && !(this.job && !FINISHED.has(this.job.state));
   }
@@ -173,8 +204,10 @@ export class BundlePanel {
     }
     this.errors.clear('bundle');
     this.startBtn.disabled = true;
+    const made = this.inputsKey();
     try {
       const accepted = await api.startBundle(d.id, buildQuery(filters), this.params());
+      this.pendingInputs = made;
       this.pendingBundle = accepted.bundle;
       this.job = null;
       this.update(accepted.job, true);
@@ -221,6 +254,8 @@ export class BundlePanel {
     try {
       const [meta, buf] = await Promise.all([api.bundle(id, ctrl.signal), api.bundlePolylines(id, ctrl.signal)]);
       this.bundle = meta;
+      this.madeFrom = this.pendingInputs;
+      this.syncStale();
       this.overlay.setSource(blendSource(decodeTsbl(buf)));
       this.showResult(meta);
       this.root.dataset.bundle = meta.id;
@@ -266,6 +301,8 @@ export class BundlePanel {
     this.bundle = null;
     this.job = null;
     this.pendingBundle = null;
+    this.madeFrom = this.pendingInputs = null;
+    this.syncStale();
     this.overlay.setSource(null);
     this.root.dataset.state = 'idle';
     delete this.root.dataset.bundle;
