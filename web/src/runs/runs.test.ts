@@ -6,7 +6,7 @@ import { laneScales } from './compareView';
 import { brushHits, fitPoints, inPolygon, inRect, nearest, normRect } from './geometry';
 import { bestIndex, formatMetric, formatNumber, formatParam, metricValue, paramValue, varyingParams } from './metrics';
 import { axisDomain, axisX, passesBrushes, valueAt, yOf } from './parcoordsScale';
-import { isRunsHash, parseRunsHash, runsHash } from './route';
+import { isRunsHash, parsePcFilters, parseRunsHash, runsHash } from './route';
 import { sortRows } from './runsTable';
 import { MAX_COMPARE, clickSelect, pickCompare, rangeIds } from './selection';
 import { sweepBody } from './sweepLauncher';
@@ -197,8 +197,21 @@ describe('route', () => {
     expect(isRunsHash('#tracker')).toBe(false);
     const h = runsHash({ sweep: 's2', sel: ['r1', 'r7'], metric: 'accuracy.median_error_mm', method: 'tsne', frame: 12 });
     expect(h).toBe('#runs?sweep=s2&sel=r1,r7&metric=accuracy.median_error_mm&method=tsne&frame=12');
-    expect(parseRunsHash(h)).toEqual({ sweep: 's2', sel: ['r1', 'r7'], metric: 'accuracy.median_error_mm', method: 'tsne', frame: 12 });
-    expect(parseRunsHash('#runs')).toEqual({ sweep: null, sel: [], metric: null, method: null, frame: null });
+    expect(parseRunsHash(h)).toEqual({ sweep: 's2', sel: ['r1', 'r7'], metric: 'accuracy.median_error_mm', method: 'tsne', frame: 12, perp: null, pc: [] });
+    expect(parseRunsHash('#runs')).toEqual({ sweep: null, sel: [], metric: null, method: null, frame: null, perp: null, pc: [] });
+  });
+
+  it('keeps the perplexity and the parallel-coordinate filters (keys may hold colons)', () => {
+    const pc: [string, [number, number]][] = [
+      ['param:ncc_min', [0.25, 0.5]],
+      ['metric:accuracy.median_error_mm', [1, 3.5]],
+    ];
+    const h = runsHash({ sweep: 's1', method: 'tsne', perp: 5, pc });
+    expect(h).toBe('#runs?sweep=s1&method=tsne&perp=5&pc=param:ncc_min:0.25:0.5;metric:accuracy.median_error_mm:1:3.5');
+    const r = parseRunsHash(h);
+    expect(r.perp).toBe(5);
+    expect(r.pc).toEqual(pc);
+    expect(parsePcFilters('x:1;:1:2;k:3:1;k:a:2')).toEqual([]);
     expect(runsHash({})).toBe('#runs');
   });
 });
