@@ -3,7 +3,7 @@ import { parseCompare, wireNumber } from '../api/runs';
 import type { RunRow } from '../api/runsTypes';
 import { NAN_COLOR, colorScale, rampColor } from './colorScale';
 import { laneScales } from './compareView';
-import { brushHits, fitPoints, inPolygon, inRect, nearest, normRect } from './geometry';
+import { brushHits, fitPoints, inPolygon, inRect, nearest, normRect, overlapGroups } from './geometry';
 import { bestIndex, formatMetric, formatNumber, formatParam, metricValue, paramValue, varyingParams } from './metrics';
 import { axisDomain, axisX, passesBrushes, valueAt, yOf } from './parcoordsScale';
 import { isRunsHash, parsePcFilters, parseRunsHash, runsHash } from './route';
@@ -364,5 +364,33 @@ describe('sweep launcher body', () => {
         { param: 'a', min: 0, max: 1 },
       ]),
     ).toThrow(/twice/);
+  });
+});
+
+describe('overlapGroups', () => {
+  it('groups points within the tolerance of a group head, as brute force does', () => {
+    const pts = [
+      { x: 10, y: 10 },
+      { x: 10.4, y: 10.2 },
+      { x: 50, y: 50 },
+      { x: 10, y: 10 },
+      { x: 50, y: 52 },
+      { x: NaN, y: 1 },
+      { x: 0.2, y: 0 },
+      { x: -0.3, y: 0.1 },
+    ];
+    // Brute force: each point joins the first earlier head within 1 px, else heads its own group.
+    const heads: number[][] = [];
+    pts.forEach((p, i) => {
+      if (!Number.isFinite(p.x)) return;
+      const g = heads.find((h) => Math.hypot(pts[h[0]!]!.x - p.x, pts[h[0]!]!.y - p.y) <= 1);
+      if (g) g.push(i);
+      else heads.push([i]);
+    });
+    expect(overlapGroups(pts, 1)).toEqual(heads.filter((g) => g.length > 1));
+    expect(overlapGroups(pts, 1)).toEqual([
+      [0, 1, 3],
+      [6, 7],
+    ]);
   });
 });
