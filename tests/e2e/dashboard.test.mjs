@@ -336,6 +336,197 @@ await test('raw/bundled toggle and the relaxation slider (no recomputation)', as
   await page.screenshot({ path: path.join(ARTIFACTS, 'bundling.png') });
 });
 
+// ---------- legends, time axis, state you can trust ----------
+
+/** The density legend's ticks as drawn: label and x of each tick relative to the bar's left edge. */
+async function legendTicks() {
+  return page.evaluate(() => {
+    const el = document.querySelector('[data-testid="density-legend"]');
+    const bar = el.querySelector('[data-testid="density-legend-bar"]').getBoundingClientRect();
+    return {
+      width: bar.width,
+      ticks: [...el.querySelectorAll('.value-legend-axis .tick')].map((t) => ({
+        label: t.querySelector('text').textContent,
+        x: t.querySelector('line').getBoundingClientRect().left - bar.left,
+      })),
+    };
+  });
+}
+
+/** The legend's span as the API gives it for the map's current query and zoom. */
+async function apiSpan(how) {
+  const m = await page.$(sel('map'));
+  const q = new URLSearchParams((await m.getAttribute('data-density-template')).split('?')[1]);
+  const z = Math.max(0, Math.min(14, Math.floor(Number(await m.getAttribute('data-zoom')))));
+  const p = new URLSearchParams();
+  for (const [k, v] of q) if (!['value', 'how', 'cmap', 'size'].includes(k)) p.set(k, v);
+  p.set('z', String(z));
+  p.set('value', q.get('value'));
+  p.set('how', how);
+  const res = await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/density/scale?${p}`);
+  assertEqual(res.status, 200, 'density/scale status');
+  return res.json();
+}
+
+await test('the density legend reads values: real width, ticks of the server span (linear and eq_hist)', async () => {
+  await page.click('label[for="bundle-mode-raw"]');
+  await page.selectOption(sel('density-how'), 'linear');
+  await page.waitForFunction(() => {
+    const l = document.querySelector('[data-testid="density-legend"]');
+    const m = document.querySelector('[data-testid="map"]');
+    return l?.dataset.state === 'ready' && l.dataset.how === 'linear' && m.dataset.idle === 'true' && m.dataset.densityLoaded === 'true';
+  });
+  const span = await apiSpan('linear');
+  assertEqual(Number(await page.getAttribute(sel('density-legend'), 'data-hi')), span.hi, 'the legend shows the API span (hi)');
+  const lin = await legendTicks();
+  assert(lin.width >= 200, `the legend bar is ${lin.width} px wide`);
+  assert(lin.ticks.length >= 3, `linear ticks: ${JSON.stringify(lin.ticks)}`);
+  // Each tick sits where the linear shading puts its value: (v − lo) / (hi − lo) of the bar.
+  for (const t of lin.ticks) {
+    const v = Number(t.label.replace(/,/g, '').replace(/k$/, 'e3').replace(/M$/, 'e6'));
+    assert(Number.isFinite(v), `a count label: ${t.label}`);
+    const want = ((v - span.lo) / (span.hi - span.lo)) * lin.width;
+    assert(Math.abs(t.x - want) < 2.5 || /k|M/.test(t.label), `tick ${t.label} at ${t.x.toFixed(1)} px, linear shading puts it at ${want.toFixed(1)} px`);
+  }
+  await page.selectOption(sel('density-how'), 'eq_hist');
+  await page.waitForFunction(() => document.querySelector('[data-testid="density-legend"]')?.dataset.how === 'eq_hist' && document.querySelector('[data-testid="density-legend"]')?.dataset.state === 'ready');
+  const eq = await apiSpan('eq_hist');
+  const ticks = (await legendTicks()).ticks;
+  assertEqual(ticks.length, 5, 'eq_hist: five quantile ticks');
+  // Quantiles by brute force: the smallest tabulated value whose share of shaded pixels reaches p.
+  const c0 = eq.cdf[0];
+  const quantile = (p) => {
+    const c = c0 + p * (1 - c0);
+    const k = eq.cdf.findIndex((x) => x >= c - 1e-12);
+    if (k <= 0) return eq.cdf_values[0];
+    const f = (c - eq.cdf[k - 1]) / (eq.cdf[k] - eq.cdf[k - 1]);
+    return eq.cdf_values[k - 1] + f * (eq.cdf_values[k] - eq.cdf_values[k - 1]);
+  };
+  const fmt = (v) => (v >= 10_000 ? null : v >= 10 || Number.isInteger(v) ? Math.round(v).toLocaleString('en-US') : v.toFixed(1));
+  [0, 0.25, 0.5, 0.75, 1].forEach((p, i) => {
+    const want = fmt(quantile(p));
+    if (want !== null) assertEqual(ticks[i].label, want, `eq_hist tick ${p * 100} %`);
+  });
+  assert((await page.textContent(sel('density-legend'))).includes('quantiles'), 'the eq_hist legend says its ticks are quantiles');
+  await page.locator(sel('density-legend')).screenshot({ path: path.join(ARTIFACTS, 'density-legend.png') });
+  console.log(`        linear ${lin.ticks.map((t) => t.label).join(' | ')}; eq_hist ${ticks.map((t) => t.label).join(' | ')}`);
+});
+
+await test('a loading indicator shows while tiles of a new state load, then goes', async () => {
+  await page.evaluate(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    window.__loadingSeen = [];
+    new MutationObserver(() => window.__loadingSeen.push(m.dataset.loading)).observe(m, { attributes: true, attributeFilter: ['data-loading'] });
+  });
+  await page.selectOption(sel('density-cmap'), 'viridis');
+  await page.waitForFunction(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    return m.dataset.densityTemplate.includes('cmap=viridis') && m.dataset.idle === 'true' && m.dataset.densityLoaded === 'true' && m.dataset.loading === 'false';
+  });
+  const seen = await page.evaluate(() => window.__loadingSeen);
+  assertEqual(seen[0], 'true', `the indicator came on first (${seen.join(',')})`);
+  assertEqual(seen[seen.length - 1], 'false', 'and went once the tiles were in');
+  assert(await page.locator(sel('map-loading')).isHidden(), 'the indicator is hidden at rest');
+  await page.selectOption(sel('density-cmap'), 'fire');
+});
+
+await test('an invalid callsign pattern shows its error and is never sent', async () => {
+  const before = requests.length;
+  await page.fill(sel('callsign'), 'AF-R');
+  await page.press(sel('callsign'), 'Enter');
+  await page.locator(sel('callsign')).blur();
+  await page.waitForFunction(() => (document.getElementById('callsign-error')?.textContent ?? '').includes('letters, digits'));
+  await page.waitForTimeout(800);
+  const sent = requests.slice(before).filter((u) => /callsign=AF-R|callsign=AF%2DR/i.test(u));
+  assertEqual(sent.length, 0, `requests with the invalid pattern: ${sent.join(', ')}`);
+  await page.fill(sel('callsign'), '');
+  await page.press(sel('callsign'), 'Enter');
+  await page.waitForFunction(() => !(document.getElementById('callsign-error')?.textContent ?? ''));
+});
+
+/** The largest of the axis's nudge steps at most 1/100 of the view (an independent copy of the rule). */
+const nudgeFor = (span) => [1, 5, 10, 30, 60, 300, 900, 3600, 10800, 21600, 86400].filter((s) => s <= span / 100).pop() ?? 1;
+
+await test('time axis: wheel zoom to minutes, a 10-minute selection at second resolution, typed ISO times, nudges', async () => {
+  const brush = sel('time-brush');
+  const box = await page.locator(brush).boundingBox();
+  const ds = (await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json());
+  // Zoom in with the wheel around the middle until the view is under an hour.
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  for (let i = 0; i < 12; i++) {
+    await page.mouse.wheel(0, -400);
+    await page.waitForTimeout(60);
+  }
+  await page.waitForFunction((b) => {
+    const e = document.querySelector(b);
+    return e.dataset.viewT1 && Number(e.dataset.viewT1) - Number(e.dataset.viewT0) < 3600;
+  }, brush);
+  const v0 = Number(await page.getAttribute(brush, 'data-view-t0'));
+  const v1 = Number(await page.getAttribute(brush, 'data-view-t1'));
+  assert(v0 >= ds.t_min - 1 && v1 <= ds.t_max + 2, `the view stays in the data (${v0}…${v1})`);
+  // The histogram is asked for the view: its bins are finer than the whole day's.
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).has('tview'));
+  // Drag over 10 minutes of the view: the window keeps the dragged seconds (no 15/30-minute bins).
+  const pxPerS = box.width / (v1 - v0);
+  const xa = box.x + (box.width - 600 * pxPerS) / 2;
+  await page.mouse.move(xa, box.y + box.height * 0.5);
+  await page.mouse.down();
+  await page.mouse.move(xa + 300 * pxPerS, box.y + box.height * 0.5, { steps: 6 });
+  await page.mouse.move(xa + 600 * pxPerS, box.y + box.height * 0.5, { steps: 6 });
+  await page.mouse.up();
+  const t0 = Number(await page.getAttribute(brush, 'data-t0'));
+  const t1 = Number(await page.getAttribute(brush, 'data-t1'));
+  assert(Number.isInteger(t0) && Number.isInteger(t1), `whole seconds (${t0}, ${t1})`);
+  assert(Math.abs(t1 - t0 - 600) <= 2 * Math.ceil(1 / pxPerS) + 1, `a 10-minute drag selects 10 minutes (${t1 - t0} s)`);
+  // Typed ISO 8601 at second resolution: exactly what the summary asks for.
+  const iso = (t) => new Date(t * 1000).toISOString().replace(/\.\d{3}Z$/, 'Z');
+  const a = Math.floor((v0 + v1) / 2) - 293; // deliberately not on any bin edge
+  await page.fill(sel('time-t0-input'), iso(a));
+  await page.fill(sel('time-t1-input'), iso(a + 600));
+  await page.press(sel('time-t1-input'), 'Enter');
+  await page.waitForFunction(([x, y]) => {
+    const s = document.querySelector('[data-testid="summary"]');
+    const q = new URLSearchParams(s?.dataset.query ?? '');
+    return s?.dataset.state === 'ready' && q.get('t0') === String(x) && q.get('t1') === String(y);
+  }, [a, a + 600]);
+  const hq = new URLSearchParams(new URL(page.url()).hash.slice(1));
+  assertEqual(hq.get('t0'), String(a), 'the URL keeps t0 to the second');
+  const api = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/summary?t0=${a}&t1=${a + 600}&bins=96`)).json();
+  assertEqual(Number(await page.getAttribute(sel('summary-points'), 'data-value')), api.points, 'the 10-minute window summary equals the API');
+  // A typo is shown, not sent.
+  const before = requests.length;
+  await page.fill(sel('time-t0-input'), '2018-13-01T00:00Z');
+  await page.press(sel('time-t0-input'), 'Enter');
+  await page.waitForSelector(`${sel('time-typed-error')}:not([hidden])`);
+  assertEqual(requests.slice(before).filter((u) => u.includes('/summary')).length, 0, 'no query for a bad typed time');
+  // Keyboard nudges: → moves the window by the view's nudge step.
+  const vs = Number(await page.getAttribute(brush, 'data-view-t1')) - Number(await page.getAttribute(brush, 'data-view-t0'));
+  await page.locator(brush).focus();
+  await page.keyboard.press('ArrowRight');
+  assertEqual(Number(await page.getAttribute(brush, 'data-t0')), a + nudgeFor(vs), `→ nudges by ${nudgeFor(vs)} s`);
+  await page.keyboard.press('ArrowLeft');
+  assertEqual(Number(await page.getAttribute(brush, 'data-t0')), a, '← nudges back');
+  await page.locator('#timeline').screenshot({ path: path.join(ARTIFACTS, 'time-axis-10min.png') });
+  console.log(`        view ${Math.round(v1 - v0)} s, drag ${t1 - t0} s, typed ${iso(a)} + 600 s, nudge ${nudgeFor(vs)} s`);
+});
+
+await test('a bundle is marked stale when its window changed; one click recomputes it', async () => {
+  await page.waitForFunction(() => document.querySelector('#bundle-section')?.dataset.stale === 'true');
+  assert(await page.locator(sel('bundle-stale')).isVisible(), 'the stale mark shows');
+  await page.screenshot({ path: path.join(ARTIFACTS, 'bundle-stale.png') });
+  const old = await page.getAttribute(bundlePanel, 'data-bundle');
+  await page.click(sel('bundle-recompute'));
+  await page.waitForFunction((o) => {
+    const el = document.querySelector('#bundle-section');
+    return el?.dataset.state === 'done' && el.dataset.bundle && el.dataset.bundle !== o && el.dataset.stale === 'false';
+  }, old, { timeout: 120_000 });
+  const id = await page.getAttribute(bundlePanel, 'data-bundle');
+  const meta = await (await fetch(`${BASE_URL}/api/v1/bundles/${id}`)).json();
+  const q = new URLSearchParams(await page.getAttribute(sel('summary'), 'data-query'));
+  assertEqual(String(meta.source.query?.t0), q.get('t0'), 'the new bundle is of the current window');
+  assert(await page.locator(sel('bundle-stale')).isHidden(), 'no stale mark on the new bundle');
+});
+
 await test('no request went to a non-loopback host', async () => {
   const outside = [...new Set(requests.filter(leavesMachine))];
   assert(requests.length > 0, 'requests were recorded');
