@@ -33,7 +33,7 @@ function coveringTiles([w, s, e, n], z) {
 
 // ---------- run ----------
 const browser = await launchBrowser();
-const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, deviceScaleFactor: 1 });
+const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, deviceScaleFactor: 1, acceptDownloads: true });
 const page = await context.newPage();
 page.setDefaultTimeout(TIMEOUT);
 
@@ -410,6 +410,38 @@ await test('the density legend reads values: real width, ticks of the server spa
   assert((await page.textContent(sel('density-legend'))).includes('quantiles'), 'the eq_hist legend says its ticks are quantiles');
   await page.locator(sel('density-legend')).screenshot({ path: path.join(ARTIFACTS, 'density-legend.png') });
   console.log(`        linear ${lin.ticks.map((t) => t.label).join(' | ')}; eq_hist ${ticks.map((t) => t.label).join(' | ')}`);
+});
+
+await test('export PNG: the map view with its legend, at the canvas size', async () => {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(sel('export-png'))]);
+  const file = await dl.path();
+  const { readFile, copyFile } = await import('node:fs/promises');
+  const bytes = await readFile(file);
+  await copyFile(file, path.join(ARTIFACTS, 'export-view.png'));
+  assert(dl.suggestedFilename().endsWith('.png') && dl.suggestedFilename().startsWith(`trailscope-${DATASET}`), `file name ${dl.suggestedFilename()}`);
+  assertEqual(bytes.subarray(1, 4).toString('latin1'), 'PNG', 'a PNG file');
+  const px = await page.evaluate(async (b64) => {
+    const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+    const img = await createImageBitmap(new Blob([bin], { type: 'image/png' }));
+    const c = new OffscreenCanvas(img.width, img.height);
+    const ctx = c.getContext('2d');
+    ctx.drawImage(img, 0, 0);
+    const at = (x, y) => [...ctx.getImageData(x, y, 1, 1).data];
+    const H = img.height;
+    // The legend box sits 30 px above the bottom: bar from x = 30 to 250, 22 px below the box's top.
+    const barY = H - (8 * 2 + 14 + 10 + 16 + 13 + 30) + 8 + 14 + 5;
+    const d = ctx.getImageData(0, 0, img.width, img.height).data;
+    let lit = 0;
+    for (let i = 0; i < d.length; i += 4 * 97) if (d[i] + d[i + 1] + d[i + 2] > 60) lit++;
+    const map = window.trailscope.map.getCanvas();
+    return { w: img.width, h: img.height, mapW: map.width, mapH: map.height, left: at(32, barY), right: at(248, barY), lit };
+  }, bytes.toString('base64'));
+  assertEqual(px.w, px.mapW, 'PNG width is the map canvas width');
+  assertEqual(px.h, px.mapH, 'PNG height is the map canvas height');
+  // fire runs from black to white: the legend's bar ends have those colours.
+  assert(px.left[0] < 60 && px.left[1] < 20 && px.left[2] < 20, `the bar starts dark (${px.left})`);
+  assert(px.right.slice(0, 3).every((v) => v > 200), `the bar ends light (${px.right})`);
+  assert(px.lit > 200, `the view is drawn (${px.lit} lit samples)`);
 });
 
 await test('a loading indicator shows while tiles of a new state load, then goes', async () => {

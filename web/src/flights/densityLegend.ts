@@ -5,7 +5,7 @@
 import { api, isAbort } from '../api/client';
 import type { RenderOptions } from '../api/query';
 import { COLORMAP_STOPS } from '../lib/colors';
-import { densityTicks, densityUnit, renderLegend, type DensitySpan } from '../lib/legend';
+import { densityTicks, densityUnit, renderLegend, type DensitySpan, type LegendSpec } from '../lib/legend';
 import { h } from '../lib/dom';
 
 /** The legend bar's width in CSS pixels. */
@@ -23,6 +23,8 @@ export class DensityLegend {
   readonly el: HTMLElement;
   private ctrl: AbortController | null = null;
   private key = '';
+  /** What the legend shows now (the PNG export draws the same), null when nothing. */
+  spec: LegendSpec | null = null;
 
   constructor(parent: HTMLElement) {
     this.el = h('div', { class: 'map-legend', 'data-testid': 'density-legend', hidden: true });
@@ -40,6 +42,7 @@ export class DensityLegend {
       this.ctrl?.abort();
       this.key = '';
       this.el.hidden = true;
+      this.spec = null;
       return;
     }
     const z = DensityLegend.tileZoom(zoom);
@@ -71,15 +74,17 @@ export class DensityLegend {
     if (span.empty) {
       this.el.replaceChildren(h('div', { class: 'value-legend-title' }, 'No traffic under these filters'));
       this.el.dataset.ticks = '';
+      this.spec = null;
       return;
     }
-    renderLegend(this.el, {
+    this.spec = {
       title: `Density: ${densityUnit(render.value)} (z${span.z})`,
       stops: COLORMAP_STOPS[render.cmap],
       ticks: densityTicks(span, render.how),
       width: DENSITY_LEGEND_WIDTH,
       testid: 'density-legend',
       note: HOW_NOTES[render.how],
-    });
+    };
+    renderLegend(this.el, this.spec);
   }
 }

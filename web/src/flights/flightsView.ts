@@ -16,6 +16,8 @@ import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
 import { SummaryView } from './summary';
 import { DensityLegend } from './densityLegend';
+import { download, mapPng } from './exportPng';
+import { formatUtcSeconds } from '../lib/format';
 import { TimeBrush } from './timeBrush';
 import { Clock, parsePlayback, writePlayback } from './clock';
 import { COLOR_BYS, PlaybackView } from './playback';
@@ -84,6 +86,7 @@ export class FlightsView {
   private readonly jobs: JobsView;
   private readonly bundles: BundlePanel;
   private readonly legend: DensityLegend;
+  private readonly exportBar: HTMLElement;
   /** The last query the server accepted (tiles and the legend follow it), without bbox. */
   private acceptedQuery: URLSearchParams | null = null;
   /** The one time cursor of the dashboard (clock.ts): playback, the histogram's cursor and every time layer. */
@@ -120,6 +123,11 @@ export class FlightsView {
       onTilesOk: () => this.errors.clear('tiles'),
     });
     this.legend = new DensityLegend(byId('map-area'));
+    this.exportBar = h('div', { class: 'map-tools', role: 'toolbar', 'aria-label': 'Export' });
+    const pngBtn = h('button', { type: 'button', class: 'btn btn-small', 'data-testid': 'export-png', title: 'The map view with its legend as PNG' }, 'PNG');
+    pngBtn.addEventListener('click', () => void this.exportPng());
+    this.exportBar.append(h('span', { class: 'small muted' }, 'Export'), pngBtn);
+    byId('map-area').append(this.exportBar);
     this.clock = new Clock({ t: extra.playback.at ?? NaN, speed: extra.playback.speed });
 
     new Controls(byId('dataset-section'), byId('filter-section'), byId('render-section'), this.store, this.errors);
@@ -360,6 +368,27 @@ export class FlightsView {
       this.flightPage = 0;
       this.loadFlights();
     }
+  }
+
+  /** What the view shows, for exported files: data set, window (or all times) and shading. */
+  private caption(): string {
+    const s = this.store.get();
+    const w = spanOf(s);
+    const when = w ? `${formatUtcSeconds(w.start)} → ${formatUtcSeconds(w.end)} UTC` : 'all times';
+    return `${s.datasetId ?? ''} · ${when} · ${s.render.value}, ${s.render.how}, ${s.render.cmap}`;
+  }
+
+  /** A file name stem for exports: data set and window. */
+  private fileStem(): string {
+    const s = this.store.get();
+    const w = spanOf(s);
+    return `trailscope-${s.datasetId ?? 'map'}${w ? `-${Math.floor(w.start)}-${Math.ceil(w.end)}` : ''}`;
+  }
+
+  private async exportPng() {
+    const bundled = this.map.map.getContainer().dataset.densityShown === 'false';
+    const blob = await mapPng(this.map.map, bundled ? null : this.legend.spec, this.caption());
+    download(blob, `${this.fileStem()}.png`);
   }
 
   /** The density legend of the accepted query at the map's zoom. */
