@@ -13,6 +13,7 @@ import { select } from 'd3-selection';
 import { zoom, zoomIdentity, type D3ZoomEvent, type ZoomBehavior } from 'd3-zoom';
 import { scaleUtc } from 'd3-scale';
 import { axisBottom } from 'd3-axis';
+import { utcFormat } from 'd3-time-format';
 import {
   MIN_VIEW_SECONDS,
   SECOND_GRID,
@@ -108,7 +109,7 @@ export class TimeBrush {
         this.typedError,
         zoomWin,
         zoomAll,
-        h('span', { class: 'brush-hint' }, 'drag to select · wheel/pinch to zoom · ←/→ nudge · Shift/Alt+←/→ end/start · +/−/0'),
+        h('span', { class: 'brush-hint', title: 'Drag to select (one-second resolution) · double-click clears · wheel or pinch zooms the axis, +/−/0 keys too · ←/→ nudge the window, Shift+←/→ its end, Alt+←/→ its start' }, 'wheel: zoom · ←/→ nudge'),
       ),
     );
     this.plot = h('div', {
@@ -131,6 +132,8 @@ export class TimeBrush {
       .filter((e: Event) => e.type === 'wheel' || (e.type.startsWith('touch') && (e as TouchEvent).touches.length >= 2))
       .on('zoom', (e: D3ZoomEvent<HTMLElement, unknown>) => this.onZoom(e.transform.k, e.transform.x));
     select(this.plot).call(this.zoomBehavior).on('dblclick.zoom', null);
+    // At a zoom limit d3-zoom lets the wheel through: it would scroll the page under the analyst's hand.
+    this.plot.addEventListener('wheel', (e) => e.preventDefault(), { passive: false });
 
     new ResizeObserver(() => this.resize()).observe(this.plot);
     this.plot.addEventListener('pointerdown', (e) => this.onDown(e));
@@ -458,7 +461,9 @@ export class TimeBrush {
 
   private updateReadout() {
     const w = this.window;
-    this.readout.textContent = w ? `${formatUtcSeconds(w.start)} → ${formatUtcSeconds(w.end)} UTC · ${formatDuration(w.end - w.start)}` : 'All times';
+    const a = w ? formatUtcSeconds(w.start) : '';
+    const b = w ? formatUtcSeconds(w.end) : '';
+    this.readout.textContent = w ? `${a.slice(11)} → ${a.slice(0, 10) === b.slice(0, 10) ? b.slice(11) : b} · ${formatDuration(w.end - w.start)}` : 'All times';
     this.plot.dataset.t0 = w ? String(w.start) : '';
     this.plot.dataset.t1 = w ? String(w.end) : '';
     const v = this.getView();
@@ -516,6 +521,7 @@ export class TimeBrush {
     select(axis).call(
       axisBottom(scale)
         .ticks(Math.max(2, Math.floor(W / 110)))
+        .tickFormat((v) => utcTick(v as Date))
         .tickSizeOuter(0)
         .tickSize(4),
     );
@@ -547,4 +553,15 @@ export class TimeBrush {
     mount(this.svgEl, ...children);
     this.placeCursor();
   }
+}
+
+const fmtDay = utcFormat('%b %d');
+const fmtMinute = utcFormat('%H:%M');
+const fmtSecond = utcFormat('%H:%M:%S');
+
+/** A UTC tick label in 24-hour time: the date at midnight, seconds only when the tick has them. */
+function utcTick(d: Date): string {
+  if (d.getUTCSeconds() !== 0) return fmtSecond(d);
+  if (d.getUTCHours() === 0 && d.getUTCMinutes() === 0) return fmtDay(d);
+  return fmtMinute(d);
 }
