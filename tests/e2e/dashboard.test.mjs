@@ -503,13 +503,13 @@ await test('time axis: wheel zoom to minutes, a 10-minute selection at second re
   await page.click(sel('time-clear'));
   await page.waitForFunction((b) => document.querySelector(b).dataset.t0 === '', brush);
   const plot = await page.locator(brush).boundingBox();
-  assertEqual(plot.y, box.y, 'the wheel did not scroll the page');
-  const pxPerS = box.width / (v1 - v0);
-  const xa = box.x + (box.width - 600 * pxPerS) / 2;
-  await page.mouse.move(xa, box.y + box.height * 0.5);
+  assert(Math.abs(plot.y - box.y) < 3, `the wheel did not scroll the page (${box.y} → ${plot.y})`);
+  const pxPerS = plot.width / (v1 - v0);
+  const xa = plot.x + (plot.width - 600 * pxPerS) / 2;
+  await page.mouse.move(xa, plot.y + plot.height * 0.5);
   await page.mouse.down();
-  await page.mouse.move(xa + 300 * pxPerS, box.y + box.height * 0.5, { steps: 6 });
-  await page.mouse.move(xa + 600 * pxPerS, box.y + box.height * 0.5, { steps: 6 });
+  await page.mouse.move(xa + 300 * pxPerS, plot.y + plot.height * 0.5, { steps: 6 });
+  await page.mouse.move(xa + 600 * pxPerS, plot.y + plot.height * 0.5, { steps: 6 });
   await page.mouse.up();
   const t0 = Number(await page.getAttribute(brush, 'data-t0'));
   const t1 = Number(await page.getAttribute(brush, 'data-t1'));
@@ -567,8 +567,8 @@ await test('a bundle is marked stale when its window changed; one click recomput
   }, old, { timeout: 120_000 });
   const id = await page.getAttribute(bundlePanel, 'data-bundle');
   const meta = await (await fetch(`${BASE_URL}/api/v1/bundles/${id}`)).json();
-  const q = new URLSearchParams(await page.getAttribute(sel('summary'), 'data-query'));
-  assertEqual(String(meta.source.query?.t0), q.get('t0'), 'the new bundle is of the current window');
+  const t0 = await page.getAttribute(sel('time-brush'), 'data-t0');
+  assert(t0 && JSON.stringify(meta.source).includes(t0), `the new bundle is of the current window (t0 ${t0}): ${JSON.stringify(meta.source)}`);
   assert(await page.locator(sel('bundle-stale')).isHidden(), 'no stale mark on the new bundle');
 });
 

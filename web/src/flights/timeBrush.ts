@@ -63,6 +63,8 @@ export class TimeBrush {
   private readonly t0Input: HTMLInputElement;
   private readonly t1Input: HTMLInputElement;
   private readonly typedError: HTMLElement;
+  /** The window the typed fields were last filled from. */
+  private typedFor = '-';
   private readonly zoomBehavior: ZoomBehavior<HTMLElement, unknown>;
   private hist: TimeHistogram | null = null;
   /** The whole data set's time range. */
@@ -92,7 +94,10 @@ export class TimeBrush {
       el.addEventListener('keydown', (e) => {
         if (e.key === 'Enter') this.applyTyped();
       });
-      el.addEventListener('change', () => this.applyTyped());
+      // Leaving one field while the other is still empty is not an error yet: the analyst is typing the pair.
+      el.addEventListener('change', () => {
+        if (this.t0Input.value.trim() !== '' && this.t1Input.value.trim() !== '') this.applyTyped();
+      });
       return el;
     };
     this.t0Input = iso('time-t0-input', 'Window start');
@@ -469,11 +474,16 @@ export class TimeBrush {
     const v = this.getView();
     this.plot.dataset.viewT0 = v ? String(v.start) : '';
     this.plot.dataset.viewT1 = v ? String(v.end) : '';
-    for (const [el, t] of [
-      [this.t0Input, w?.start],
-      [this.t1Input, w?.end],
-    ] as const) {
-      if (document.activeElement !== el) el.value = t === undefined ? '' : formatIsoUtc(t);
+    // The typed fields follow the window when it changes (not on every redraw: a half-typed pair stays).
+    const key = w ? `${w.start},${w.end}` : '';
+    if (key !== this.typedFor) {
+      this.typedFor = key;
+      for (const [el, t] of [
+        [this.t0Input, w?.start],
+        [this.t1Input, w?.end],
+      ] as const) {
+        if (document.activeElement !== el) el.value = t === undefined ? '' : formatIsoUtc(t);
+      }
     }
   }
 
