@@ -7,7 +7,7 @@ import type * as maplibregl from 'maplibre-gl';
 import type { LegendSpec } from '../lib/legend';
 
 /** The legend box's geometry in CSS pixels (drawLegend). */
-const BOX = { pad: 8, title: 14, bar: 10, ticks: 16, note: 13 };
+const BOX = { pad: 8, title: 14, bar: 10, ticks: 18, note: 13 };
 
 /** Copies the map's next rendered frame into a 2D canvas of the same pixel size. */
 function captureMap(map: maplibregl.Map): Promise<HTMLCanvasElement> {
@@ -28,8 +28,11 @@ function captureMap(map: maplibregl.Map): Promise<HTMLCanvasElement> {
 export function drawLegend(ctx: CanvasRenderingContext2D, spec: LegendSpec, x: number, y: number, scale: number): { w: number; h: number } {
   const W = spec.width;
   const h = BOX.pad * 2 + BOX.title + BOX.bar + BOX.ticks + (spec.note ? BOX.note : 0);
-  const w = W + BOX.pad * 2 + 24;
   ctx.save();
+  ctx.font = '10px sans-serif';
+  const noteW = spec.note ? ctx.measureText(spec.note).width : 0;
+  ctx.font = '11px sans-serif';
+  const w = Math.max(W + 24, noteW, ctx.measureText(spec.title).width) + BOX.pad * 2;
   ctx.scale(scale, scale);
   ctx.translate(x / scale, y / scale);
   ctx.fillStyle = 'rgba(17, 22, 29, 0.88)';
