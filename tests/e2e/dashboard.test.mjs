@@ -429,7 +429,7 @@ await test('export PNG: the map view with its legend, at the canvas size', async
     const at = (x, y) => [...ctx.getImageData(x, y, 1, 1).data];
     const H = img.height;
     // The legend box sits 30 px above the bottom: bar from x = 30 to 250, 22 px below the box's top.
-    const barY = H - (8 * 2 + 14 + 10 + 16 + 13 + 30) + 8 + 14 + 5;
+    const barY = H - (8 * 2 + 14 + 10 + 18 + 13 + 30) + 8 + 14 + 5;
     const d = ctx.getImageData(0, 0, img.width, img.height).data;
     let lit = 0;
     for (let i = 0; i < d.length; i += 4 * 97) if (d[i] + d[i + 1] + d[i + 2] > 60) lit++;
