@@ -12,6 +12,8 @@ import type {
   DatasetList,
   FlightFeature,
   FlightPage,
+  FlightSort,
+  SortOrder,
   Health,
   Job,
   JobAccepted,
@@ -105,10 +107,14 @@ export const api = {
     q.set('how', r.how);
     return request<DensitySpan>(withQuery(`${ds(id)}/density/scale`, q), { signal });
   },
-  flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal) {
+  flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal, sort?: { sort: FlightSort; order: SortOrder }) {
     const q = new URLSearchParams(query);
     q.set('page', String(page));
     q.set('page_size', String(pageSize));
+    if (sort) {
+      q.set('sort', sort.sort);
+      q.set('order', sort.order);
+    }
     return request<FlightPage>(withQuery(`${ds(id)}/flights`, q), { signal });
   },
 

@@ -100,6 +100,7 @@ export interface Summary {
   elapsed_ms: number;
 }
 
+/** A flight of the list: "in window" columns cover its points passing the filters, flight_* the whole flight. */
 export interface FlightRow {
   id: number;
   icao24: string;
@@ -108,12 +109,37 @@ export interface FlightRow {
   t_end: number;
   points: number;
   alt_max_m: number;
+  duration_s?: number;
+  flight_t_start?: number;
+  flight_t_end?: number;
+  flight_duration_s?: number;
+  flight_points?: number;
 }
+
+/** The flight list's sort columns (GET …/flights `sort`). */
+export const FLIGHT_SORTS = [
+  'id',
+  'icao24',
+  'callsign',
+  't_start',
+  't_end',
+  'duration_s',
+  'points',
+  'alt_max_m',
+  'flight_t_start',
+  'flight_t_end',
+  'flight_duration_s',
+  'flight_points',
+] as const;
+export type FlightSort = (typeof FLIGHT_SORTS)[number];
+export type SortOrder = 'asc' | 'desc';
 
 export interface FlightPage {
   total: number;
   page: number;
   page_size: number;
+  sort?: FlightSort;
+  order?: SortOrder;
   flights: FlightRow[];
 }
 

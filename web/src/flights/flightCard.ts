@@ -47,7 +47,7 @@ export class FlightCard {
     const add = (k: string, v: string, testid?: string) => dl.append(h('dt', {}, k), h('dd', { 'data-testid': testid }, v));
     add('First seen', `${formatUtcSeconds(t0)} UTC`, 'card-t-start');
     add('Last seen', `${formatUtcSeconds(t1)} UTC`, 'card-t-end');
-    add('Duration', formatDuration(t1 - t0));
+    add('Duration (whole flight)', formatDuration(t1 - t0), 'card-duration');
     add('Max altitude', `${formatAltitude(maxAlt)} (${formatFlightLevel(maxAlt)})`, 'card-alt-max');
     if (maxSpeed !== null) add('Max speed', formatSpeed(maxSpeed));
     add('Points', formatInt(f.geometry.coordinates.length));

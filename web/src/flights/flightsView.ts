@@ -3,7 +3,7 @@
 import { ApiError, api, isAbort } from '../api/client';
 import { buildQuery, densityTileTemplate, parseFilters, parseRender, validateFilters } from '../api/query';
 import { JobSocket } from '../api/socket';
-import type { Dataset, FlightRow, Job, Summary } from '../api/types';
+import { FLIGHT_SORTS, type Dataset, type FlightRow, type FlightSort, type Job, type SortOrder, type Summary } from '../api/types';
 import { byId, debounce, h } from '../lib/dom';
 import { Store, type AppState } from './state';
 import { Controls } from './controls';
@@ -48,6 +48,9 @@ interface HashState {
   datasetId: string | null;
   view: { lng: number; lat: number; zoom: number } | null;
   flight: number | null;
+  /** The flight list's order and page (`fsort`, `forder`, `fpage`). */
+  flightSort: { sort: FlightSort; order: SortOrder };
+  flightPage: number | null;
   /** The time axis's zoomed view (`tview=start,end`), null for the whole data set. */
   timeView: { start: number; end: number } | null;
   /** The playback instant (`at`: the playback view is open), speed, tail and colour-by. */
@@ -69,6 +72,11 @@ function readHash(): { state: Partial<AppState>; extra: HashState } {
       datasetId: q.get('dataset'),
       view: view && view.length === 3 && view.every(Number.isFinite) ? { lng: view[0]!, lat: view[1]!, zoom: view[2]! } : null,
       flight: q.has('flight') && Number.isInteger(flight) ? flight : null,
+      flightSort: {
+        sort: FLIGHT_SORTS.find((c) => c === q.get('fsort')) ?? 't_start',
+        order: q.get('forder') === 'desc' ? 'desc' : 'asc',
+      },
+      flightPage: /^\d+$/.test(q.get('fpage') ?? '') ? Number(q.get('fpage')) : null,
       timeView: tview && tview.length === 2 && tview.every(Number.isFinite) && tview[1]! > tview[0]! ? { start: tview[0]!, end: tview[1]! } : null,
       playback: { ...parsePlayback(q), colorBy: COLOR_BYS.find((c) => c === color) ?? 'altitude' },
     },
@@ -101,6 +109,9 @@ export class FlightsView {
   private histKey = '';
   private flightsKey = '';
   private flightPage = 0;
+  /** The flight list's order (`fsort`, `forder` in the hash) and a page from the hash, used once. */
+  private flightSort: { sort: FlightSort; order: SortOrder } = { sort: 't_start', order: 'asc' };
+  private initialPage: number | null = null;
   private initialView: HashState['view'];
   private initialFlight: number | null;
   private readonly scheduleRefresh = debounce(() => this.refresh(), 60);
@@ -111,6 +122,8 @@ export class FlightsView {
     this.store = new Store(state);
     this.initialView = extra.view;
     this.initialFlight = extra.flight;
+    this.flightSort = extra.flightSort;
+    this.initialPage = extra.flightPage;
     this.errors = new ErrorSlots(byId('banner'));
 
     this.map = new MapView(byId('map'), {
@@ -153,7 +166,15 @@ export class FlightsView {
         this.loadFlights();
       },
       onSelect: (row) => this.selectFlight(row),
+      onSort: (sort, order) => {
+        this.flightSort = { sort, order };
+        this.flights.setSort(sort, order);
+        this.flightPage = 0;
+        this.loadFlights();
+        this.writeHash();
+      },
     });
+    this.flights.setSort(this.flightSort.sort, this.flightSort.order);
     this.card = new FlightCard(byId('map-overlay'), () => this.store.set({ selectedFlight: null }));
     this.jobs = new JobsView(byId('jobs-section'), {
       onJobDone: (job, mine) => this.onJobDone(job, mine),
@@ -365,7 +386,9 @@ export class FlightsView {
     this.syncHistogram(summary);
     if (key !== this.flightsKey) {
       this.flightsKey = key;
-      this.flightPage = 0;
+      // A new query starts at the first page, except the page a shared link names (once).
+      this.flightPage = this.initialPage ?? 0;
+      this.initialPage = null;
       this.loadFlights();
     }
   }
@@ -461,9 +484,10 @@ export class FlightsView {
     const signal = this.flightsCh.next();
     this.flights.setLoading();
     api
-      .flights(d.id, q, this.flightPage, PAGE_SIZE, signal)
+      .flights(d.id, q, this.flightPage, PAGE_SIZE, signal, this.flightSort)
       .then((p) => {
         this.flights.set(p);
+        this.writeHash();
         this.flights.setSelected(this.store.get().selectedFlight);
         if (this.initialFlight !== null) {
           // A shared link names a flight that may sit on another page: open it anyway.
@@ -538,6 +562,11 @@ export class FlightsView {
     const c = this.map.map.getCenter();
     p.set('view', `${c.lng.toFixed(4)},${c.lat.toFixed(4)},${this.map.map.getZoom().toFixed(2)}`);
     if (s.selectedFlight !== null) p.set('flight', String(s.selectedFlight));
+    if (this.flightSort.sort !== 't_start' || this.flightSort.order !== 'asc') {
+      p.set('fsort', this.flightSort.sort);
+      p.set('forder', this.flightSort.order);
+    }
+    if (this.flightPage > 0) p.set('fpage', String(this.flightPage));
     const tv = this.brush.getView();
     if (tv) p.set('tview', `${Math.floor(tv.start)},${Math.ceil(tv.end)}`);
     const c0 = this.clock.get();
