@@ -16,6 +16,7 @@ import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
 import { SummaryView } from './summary';
 import { DensityLegend } from './densityLegend';
+import { Picking } from './picking';
 import { download, mapPng } from './exportPng';
 import { formatUtcSeconds } from '../lib/format';
 import { TimeBrush } from './timeBrush';
@@ -29,6 +30,8 @@ import { CongestionPanel } from './congestion/congestionPanel';
 
 const SUMMARY_BINS = 96;
 const PAGE_SIZE = 50;
+/** The server's largest export (limits kMaxExportPoints): the links are disabled beyond it. */
+const MAX_EXPORT_POINTS = 10_000_000;
 
 /** Latest-wins request channel: starting a new request aborts the previous one. */
 class Channel {
@@ -95,6 +98,7 @@ export class FlightsView {
   private readonly bundles: BundlePanel;
   private readonly legend: DensityLegend;
   private readonly exportBar: HTMLElement;
+  private readonly exportLinks: Record<'geojson' | 'csv' | 'summaryJson' | 'summaryCsv', HTMLAnchorElement>;
   /** The last query the server accepted (tiles and the legend follow it), without bbox. */
   private acceptedQuery: URLSearchParams | null = null;
   /** The one time cursor of the dashboard (clock.ts): playback, the histogram's cursor and every time layer. */
@@ -112,6 +116,8 @@ export class FlightsView {
   /** The flight list's order (`fsort`, `forder` in the hash) and a page from the hash, used once. */
   private flightSort: { sort: FlightSort; order: SortOrder } = { sort: 't_start', order: 'asc' };
   private initialPage: number | null = null;
+  /** Matching points of the last accepted summary (null before one). */
+  private lastPoints: number | null = null;
   private initialView: HashState['view'];
   private initialFlight: number | null;
   private readonly scheduleRefresh = debounce(() => this.refresh(), 60);
@@ -139,7 +145,17 @@ export class FlightsView {
     this.exportBar = h('div', { class: 'map-tools', role: 'toolbar', 'aria-label': 'Export' });
     const pngBtn = h('button', { type: 'button', class: 'btn btn-small', 'data-testid': 'export-png', title: 'The map view with its legend as PNG' }, 'PNG');
     pngBtn.addEventListener('click', () => void this.exportPng());
-    this.exportBar.append(h('span', { class: 'small muted' }, 'Export'), pngBtn);
+    // The window's flights (GeoJSON, CSV: streamed by the server) and the summary (JSON, CSV): links the
+    // browser downloads itself, pointed at the query the server last accepted.
+    const link = (testid: string, label: string, title: string) =>
+      h('a', { class: 'btn btn-small', 'data-testid': testid, title, 'aria-disabled': 'true' }, label);
+    this.exportLinks = {
+      geojson: link('export-geojson', 'GeoJSON', "The window's flights, their matching points only (GeoJSON FeatureCollection)"),
+      csv: link('export-csv', 'CSV', "The window's points, one row per point (CSV)"),
+      summaryJson: link('export-summary-json', 'Summary JSON', 'The summary of the window (JSON)'),
+      summaryCsv: link('export-summary-csv', 'Summary CSV', 'The summary totals of the window (CSV)'),
+    };
+    this.exportBar.append(h('span', { class: 'small muted' }, 'Export'), pngBtn, ...Object.values(this.exportLinks));
     byId('map-area').append(this.exportBar);
     this.clock = new Clock({ t: extra.playback.at ?? NaN, speed: extra.playback.speed });
 
@@ -209,6 +225,16 @@ export class FlightsView {
       clock: this.clock,
       playbackOn: () => this.playback.isOn(),
       onSelectFlight: (id, callsign, icao24) => this.selectFlight({ id, icao24, callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
+    });
+    // Hover and click on the density map pick the flights drawn under the cursor (picking.ts).
+    new Picking(byId('map'), {
+      map: this.map.map,
+      target: () => {
+        const d = this.store.dataset();
+        return d && this.acceptedQuery ? { dataset: d.id, query: this.acceptedQuery } : null;
+      },
+      enabled: () => !this.playback.isOn() && this.map.map.getContainer().dataset.densityShown !== 'false',
+      onSelect: (f) => this.selectFlight({ id: f.id, icao24: f.icao24, callsign: f.callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
     });
     const playback = this.playback;
     (window as unknown as { trailscope: unknown }).trailscope = {
@@ -379,6 +405,7 @@ export class FlightsView {
     const s = this.store.get();
     const eff = this.store.effectiveFilters();
     this.acceptedQuery = buildQuery(eff, { withoutBBox: true });
+    this.updateExports(d, buildQuery(eff), summary);
     this.map.setDensity(densityTileTemplate(window.location.origin, d.id, this.acceptedQuery, s.render));
     this.updateLegend();
     const q = buildQuery(eff);
@@ -406,6 +433,32 @@ export class FlightsView {
     const s = this.store.get();
     const w = spanOf(s);
     return `trailscope-${s.datasetId ?? 'map'}${w ? `-${Math.floor(w.start)}-${Math.ceil(w.end)}` : ''}`;
+  }
+
+  /** Points the export links at the accepted query (with the map-view box when on). */
+  private updateExports(d: Dataset, q: URLSearchParams, summary?: Summary) {
+    const base = `/api/v1/datasets/${encodeURIComponent(d.id)}`;
+    const stem = this.fileStem();
+    const set = (a: HTMLAnchorElement, path: string, extra: Record<string, string>, file: string, tooMany = false) => {
+      const p = new URLSearchParams(q);
+      for (const [k, v] of Object.entries(extra)) p.set(k, v);
+      if (tooMany) {
+        a.removeAttribute('href');
+        a.setAttribute('aria-disabled', 'true');
+        a.title = `The window holds more than ${MAX_EXPORT_POINTS.toLocaleString('en-US')} points: narrow the window or the filters.`;
+        return;
+      }
+      a.href = `${base}/${path}?${p.toString()}`;
+      a.download = file;
+      a.removeAttribute('aria-disabled');
+    };
+    const points = summary?.points ?? this.lastPoints;
+    if (summary) this.lastPoints = summary.points;
+    const tooMany = points !== null && points > MAX_EXPORT_POINTS;
+    set(this.exportLinks.geojson, 'export', { format: 'geojson' }, `${stem}.geojson`, tooMany);
+    set(this.exportLinks.csv, 'export', { format: 'csv' }, `${stem}.csv`, tooMany);
+    set(this.exportLinks.summaryJson, 'summary', { format: 'json', bins: String(SUMMARY_BINS) }, `${stem}-summary.json`);
+    set(this.exportLinks.summaryCsv, 'summary', { format: 'csv', table: 'totals' }, `${stem}-summary.csv`);
   }
 
   private async exportPng() {
