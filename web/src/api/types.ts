@@ -98,6 +98,30 @@ export interface Summary {
   /** The server's canonical form of the query it answered. */
   query?: string;
   elapsed_ms: number;
+  /** Physically implausible values among the matching points (counts and the largest examples). */
+  quality?: QualityReport;
+}
+
+export interface QualityExample {
+  flight_id: number;
+  callsign: string;
+  t: number;
+  /** m/s for speeds and jumps, metres for altitudes. */
+  value: number;
+  value_kt?: number;
+  value_fl?: number;
+}
+
+export interface QualityCount {
+  count: number;
+  examples: QualityExample[];
+}
+
+export interface QualityReport {
+  limits?: { speed_ms?: number; speed_kt?: number; altitude_m?: number; altitude_fl?: number };
+  speed: QualityCount;
+  altitude: QualityCount;
+  jumps: QualityCount;
 }
 
 /** A flight of the list: "in window" columns cover its points passing the filters, flight_* the whole flight. */

@@ -162,6 +162,7 @@ export class FlightsView {
     new Controls(byId('dataset-section'), byId('filter-section'), byId('render-section'), this.store, this.errors);
     this.summary = new SummaryView(byId('summary-section'), {
       onCallsign: (callsign) => this.store.setFilters({ callsign }),
+      onFlight: (id, callsign) => this.selectFlight({ id, icao24: '', callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
     });
     this.brush = new TimeBrush(byId('timeline'), {
       onWindow: (w) => this.store.setFilters({ t0: w?.start ?? null, t1: w?.end ?? null }),
