@@ -550,6 +550,117 @@ await test('time axis: wheel zoom to minutes, a 10-minute selection at second re
   console.log(`        view ${Math.round(v1 - v0)} s, drag ${t1 - t0} s, typed ${iso(a)} + 600 s, nudge ${nudgeFor(vs)} s`);
 });
 
+// ---------- sorting, picking, exports (the window is now 10 minutes) ----------
+
+await test('the flight list sorts on the server: a header click gives the API order, again reverses; the URL keeps it', async () => {
+  const q = await page.getAttribute(sel('summary'), 'data-query');
+  const rowsShown = () =>
+    page.$$eval('[data-testid="flight-row"]', (rows) =>
+      rows.map((r) => ({ id: Number(r.dataset.flightId), dur: r.querySelector('[data-col="flight_duration_s"]').textContent })),
+    );
+  for (const order of ['asc', 'desc']) {
+    await page.click(sel('flight-sort-flight_duration_s'));
+    await page.waitForFunction((o) => {
+      const f = document.querySelector('[data-testid="flights"]');
+      return f?.dataset.state === 'ready' && f.dataset.sort === 'flight_duration_s' && f.dataset.order === o;
+    }, order);
+    const api = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights?${q}&page=0&page_size=50&sort=flight_duration_s&order=${order}`)).json();
+    const shown = await rowsShown();
+    assertEqual(shown.map((r) => r.id).join(','), api.flights.map((f) => f.id).join(','), `the ${order} page equals the API's`);
+    // Independently of the server: the whole-flight durations of the rows are in order.
+    const d = api.flights.map((f) => f.flight_t_end - f.flight_t_start);
+    assert(d.every((v, i) => i === 0 || (order === 'asc' ? v >= d[i - 1] - 1e-6 : v <= d[i - 1] + 1e-6)), `whole-flight durations ${order}: ${d.slice(0, 8).join(',')}`);
+    assert(api.flights.every((f) => f.flight_t_start <= f.t_start && f.flight_t_end >= f.t_end), 'in-window times lie inside the whole flight');
+  }
+  await page.waitForFunction(() => {
+    const h = new URLSearchParams(location.hash.slice(1));
+    return h.get('fsort') === 'flight_duration_s' && h.get('forder') === 'desc';
+  });
+  await page.locator('#flights-section').screenshot({ path: path.join(ARTIFACTS, 'flight-list-sorted.png') });
+});
+
+await test('hover and click on the density map pick the flight the API picks', async () => {
+  await page.keyboard.press('Escape');
+  const q = await page.getAttribute(sel('summary'), 'data-query');
+  const first = Number(await page.locator(sel('flight-row')).first().getAttribute('data-flight-id'));
+  const f = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights/${first}?${q}&clip=1`)).json();
+  const coords = f.geometry.coordinates;
+  assert(coords.length >= 2, `the flight has a trail in the window (${coords.length} points)`);
+  const mid = coords[Math.floor(coords.length / 2)];
+  await page.evaluate(([lng, lat]) => window.trailscope.map.jumpTo({ center: [lng, lat], zoom: 8 }), mid);
+  await page.waitForFunction(() => document.querySelector('[data-testid="map"]')?.dataset.idle === 'true');
+  const box = await page.locator(sel('map')).boundingBox();
+  const p = await page.evaluate(([lng, lat]) => window.trailscope.map.project([lng, lat]), mid);
+  await page.mouse.move(box.x + p.x - 3, box.y + p.y - 3);
+  await page.mouse.move(box.x + p.x, box.y + p.y);
+  await page.waitForFunction(() => !document.querySelector('[data-testid="pick-tooltip"]')?.hidden);
+  const ll = await page.evaluate(([x, y]) => {
+    const m = window.trailscope.map;
+    const l = m.unproject([x, y]);
+    return { lng: l.lng, lat: l.lat, zoom: m.getZoom() };
+  }, [p.x, p.y]);
+  const pq = new URLSearchParams(q);
+  for (const k of ['bbox']) pq.delete(k);
+  pq.set('lon', ll.lng.toFixed(6));
+  pq.set('lat', ll.lat.toFixed(6));
+  pq.set('zoom', ll.zoom.toFixed(4));
+  pq.set('tile_size', '512');
+  pq.set('tolerance', '5');
+  pq.set('limit', '5');
+  const api = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/pick?${pq}`)).json();
+  assert(api.flights.length > 0, 'the API picks a flight there');
+  assert(api.flights.some((x) => x.id === first), `the flight drawn there is among the picked (${api.flights.map((x) => x.id)})`);
+  assertEqual(Number(await page.getAttribute(sel('pick-tooltip'), 'data-flight-id')), api.flights[0].id, 'the hovered flight is the API nearest');
+  assertEqual(await page.getAttribute(sel('pick-tooltip'), 'data-flights'), api.flights.map((x) => x.id).join(','), 'the hovered list');
+  await page.screenshot({ path: path.join(ARTIFACTS, 'pick-hover.png') });
+  await page.mouse.click(box.x + p.x, box.y + p.y);
+  await page.waitForFunction((id) => document.querySelector('[data-testid="map"]')?.dataset.track === String(id), api.flights[0].id);
+  await page.waitForFunction(() => document.querySelector('[data-testid="flight-card"]')?.dataset.state === 'ready');
+  assertEqual((await page.textContent(sel('card-callsign'))).trim(), api.flights[0].callsign || '—', 'the clicked flight is shown');
+  await page.keyboard.press('Escape');
+});
+
+/** Downloads what a click on `testid` gives; its text and file name. */
+async function download(testid) {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(sel(testid))]);
+  const { readFile, copyFile } = await import('node:fs/promises');
+  const file = await dl.path();
+  await copyFile(file, path.join(ARTIFACTS, `export-${dl.suggestedFilename()}`));
+  return { name: dl.suggestedFilename(), text: await readFile(file, 'utf8') };
+}
+
+await test("exports: the window's flights as GeoJSON and CSV and the summary as JSON and CSV equal the API", async () => {
+  const q = await page.getAttribute(sel('summary'), 'data-query');
+  const sum = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/summary?${q}&bins=96`)).json();
+  const list = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights?${q}&page=0&page_size=1`)).json();
+  const gj = await download('export-geojson');
+  assert(gj.name.endsWith('.geojson'), gj.name);
+  const fc = JSON.parse(gj.text);
+  assertEqual(fc.type, 'FeatureCollection', 'GeoJSON type');
+  assertEqual(fc.features.length, list.total, 'one feature per flight of the list');
+  assertEqual(fc.features.reduce((a, f) => a + f.geometry.coordinates.length, 0), sum.points, 'the points are the summary points');
+  const f0 = fc.features[0];
+  const one = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights/${f0.properties.id}?${q}&clip=1`)).json();
+  assertEqual(JSON.stringify(f0.geometry.coordinates), JSON.stringify(one.geometry.coordinates), 'a feature equals GET /flights/{id}?clip=1');
+  const csv = await download('export-csv');
+  const lines = csv.text.trim().split('\n');
+  assertEqual(lines[0], 'flight_id,icao24,callsign,t,lat,lon,alt_m,speed_ms,track_deg,vrate_ms,on_ground', 'CSV header');
+  assertEqual(lines.length - 1, sum.points, 'one CSV row per point');
+  assertEqual(new Set(lines.slice(1).map((l) => l.split(',')[0])).size, list.total, 'the CSV covers every flight');
+  // The first feature's first point, in the CSV (same numbers).
+  const [lon, lat] = f0.geometry.coordinates[0];
+  const row = lines.find((l) => l.startsWith(`${f0.properties.id},`));
+  const c = row.split(',');
+  assert(Math.abs(Number(c[5]) - lon) < 1e-9 && Math.abs(Number(c[4]) - lat) < 1e-9, `the CSV row ${row} holds the GeoJSON point ${lon},${lat}`);
+  const sj = JSON.parse((await download('export-summary-json')).text);
+  assertEqual(sj.points, sum.points, 'summary JSON points');
+  assertEqual(sj.flights, sum.flights, 'summary JSON flights');
+  const sc = Object.fromEntries((await download('export-summary-csv')).text.trim().split('\n').slice(1).map((l) => l.split(',')));
+  assertEqual(Number(sc.points), sum.points, 'summary CSV points');
+  assertEqual(Number(sc.flights), sum.flights, 'summary CSV flights');
+  console.log(`        ${fc.features.length} flights, ${sum.points} points exported`);
+});
+
 await test('a bundle is marked stale when its window changed; one click recomputes it', async () => {
   // The bundle's window shifted by half an hour, typed (the time-axis step above may have moved it already).
   const iso = (t) => new Date(t * 1000).toISOString().replace(/\.\d{3}Z$/, 'Z');
