@@ -357,7 +357,12 @@ async function legendTicks() {
 async function apiSpan(how) {
   const m = await page.$(sel('map'));
   const q = new URLSearchParams((await m.getAttribute('data-density-template')).split('?')[1]);
-  const z = Math.max(0, Math.min(14, Math.floor(Number(await m.getAttribute('data-zoom')))));
+  // The zoom of the tiles the map actually asked for with this template (the legend must be theirs).
+  const tq = (await m.getAttribute('data-density-template')).split('?')[1];
+  const zs = tileResponses.filter((r) => r.url.split('?')[1] === tq).map((r) => Number(new URL(r.url).pathname.split('/')[4]));
+  assert(zs.length > 0, 'tiles of the current template were requested');
+  const z = Math.max(...zs);
+  assertEqual(Number(await page.getAttribute(sel('density-legend'), 'data-z')), z, "the legend is of the tiles' zoom");
   const p = new URLSearchParams();
   for (const [k, v] of q) if (!['value', 'how', 'cmap', 'size'].includes(k)) p.set(k, v);
   p.set('z', String(z));

@@ -31,9 +31,13 @@ export class DensityLegend {
     parent.append(this.el);
   }
 
-  /** The tile zoom MapLibre requests at map zoom `zoom` (raster sources cover with the floor). */
+  /**
+   * The zoom of the 256-px density tiles MapLibre requests at map zoom `zoom`: its zoom counts 512-px
+   * tiles, so 256-px tiles are one level deeper, and raster sources round (SourceCache's covering tiles
+   * with roundZoom).
+   */
   static tileZoom(zoom: number): number {
-    return Math.max(0, Math.min(MAX_TILE_ZOOM, Math.floor(zoom)));
+    return Math.max(0, Math.min(MAX_TILE_ZOOM, Math.round(zoom + 1)));
   }
 
   /** Shows the legend of dataset `dataset` under `query` (without bbox) and `render` at map zoom `zoom`. */
