@@ -215,6 +215,8 @@ export class RunsView {
       // The bare tab link (#runs): keep what the view shows and put it back in the URL.
       this.syncHash();
     } else if ((r.sweep ?? null) !== this.sweep && r.sweep) {
+      // A sweep made since the lists were loaded (a link from elsewhere): load them again first.
+      if (!this.sweeps.some((x) => x.id === r.sweep)) await this.loadLists();
       await this.setSweep(r.sweep, false, r.sel);
     } else if (r.sel.join(',') !== this.selection.join(',')) {
       this.setSelection(r.sel, false);
