@@ -332,6 +332,16 @@ await test('raw/bundled toggle and the relaxation slider (no recomputation)', as
     const m = document.querySelector('[data-testid="map"]');
     return m.dataset.bundleTemplate.includes('relaxation=0.30') && m.dataset.idle === 'true' && m.dataset.bundleLoaded === 'true';
   });
+  // The bundle's colour legend: trail length in km, a bar of real width with ticks.
+  const bl = await page.$eval('[data-testid="bundle-legend"]', (el) => ({
+    width: el.querySelector('[data-testid="bundle-legend-bar"]').getBoundingClientRect().width,
+    ticks: el.dataset.ticks.split('|'),
+    lo: Number(el.dataset.loKm),
+    hi: Number(el.dataset.hiKm),
+  }));
+  assert(bl.width >= 200, `bundle legend ${bl.width} px wide`);
+  assert(bl.ticks.length >= 3 && bl.ticks.every((t) => /^≈[\d,]+$/.test(t)), `bundle legend ticks in km: ${bl.ticks}`);
+  assert(bl.lo > 0 && bl.hi > bl.lo && bl.hi < 5000, `trail lengths ${bl.lo}–${bl.hi} km`);
   await page.mouse.move(5, 5);
   await page.screenshot({ path: path.join(ARTIFACTS, 'bundling.png') });
 });

@@ -7,6 +7,8 @@ import { buildQuery, validateFilters } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { blendSource, decodeTsbl } from './tsbl';
+import { cubuRainbow, kmPerMercatorDegree, linearTicks, renderLegend, type LegendSpec } from '../lib/legend';
+import { formatInt } from '../lib/format';
 import type { BundleOverlay } from './bundleOverlay';
 import type { Store } from './state';
 import type { ErrorSlots } from './errors';
@@ -33,6 +35,9 @@ export class BundlePanel {
   /** The inputs (data set, filters without the view box, parameters) the current bundle was made from. */
   private madeFrom: string | null = null;
   private readonly staleBox: HTMLElement;
+  private readonly legendBox: HTMLElement;
+  /** The bundle legend shown (the PNG export draws it in bundled mode). */
+  legendSpec: LegendSpec | null = null;
   private pendingBundle: string | null = null;
   private pendingInputs: string | null = null;
   private bundle: Bundle | null = null;
@@ -81,6 +86,7 @@ export class BundlePanel {
       this.overlay.setRelaxation(this.relaxation);
       this.applyTilesSoon();
     });
+    this.legendBox = h('div', { class: 'bundle-legend' });
     this.viewBox = h(
       'div',
       { class: 'bundle-view', hidden: true },
@@ -92,6 +98,7 @@ export class BundlePanel {
       ),
       h('label', { class: 'field-label', for: 'bundle-relaxation' }, 'Relaxation', h('span', { class: 'hint' }, 'bundled → raw'), this.sliderValue),
       this.slider,
+      this.legendBox,
     );
     const recompute = h('button', { type: 'button', class: 'link-button', 'data-testid': 'bundle-recompute' }, 'Recompute');
     recompute.addEventListener('click', () => void this.start());
@@ -256,7 +263,9 @@ export class BundlePanel {
       this.bundle = meta;
       this.madeFrom = this.pendingInputs;
       this.syncStale();
-      this.overlay.setSource(blendSource(decodeTsbl(buf)));
+      const tsbl = decodeTsbl(buf);
+      this.overlay.setSource(blendSource(tsbl));
+      this.showLegend(tsbl.length);
       this.showResult(meta);
       this.root.dataset.bundle = meta.id;
       this.viewBox.hidden = false;
@@ -265,6 +274,40 @@ export class BundlePanel {
       if (isAbort(e)) return;
       mount(this.result, h('p', { class: 'error-text small' }, e instanceof ApiError ? e.detail : String(e)));
     }
+  }
+
+  /**
+   * The bundle tiles' colour legend (colour by length, the tiles' default): CUBu's rainbow from the
+   * shortest to the longest trail of the bundle, in km (TSBL lengths are Mercator degrees: scaled at the
+   * view's latitude, hence "≈").
+   */
+  private showLegend(lengths: ArrayLike<number>) {
+    let lo = Infinity;
+    let hi = -Infinity;
+    for (let i = 0; i < lengths.length; i++) {
+      const v = lengths[i]!;
+      if (Number.isFinite(v)) {
+        lo = Math.min(lo, v);
+        hi = Math.max(hi, v);
+      }
+    }
+    if (!(hi >= lo)) {
+      this.legendSpec = null;
+      mount(this.legendBox);
+      return;
+    }
+    const k = kmPerMercatorDegree(this.map.map.getCenter().lat);
+    this.legendSpec = {
+      title: 'Bundle colour: trail length (km)',
+      stops: Array.from({ length: 11 }, (_, i) => cubuRainbow(i / 10)),
+      ticks: linearTicks(lo * k, hi * k, 4, (v) => `≈${formatInt(v)}`),
+      width: 200,
+      testid: 'bundle-legend',
+      note: 'shortest → longest trail of this bundle',
+    };
+    renderLegend(this.legendBox, this.legendSpec);
+    this.legendBox.dataset.loKm = String(lo * k);
+    this.legendBox.dataset.hiKm = String(hi * k);
   }
 
   private showResult(b: Bundle) {

@@ -464,7 +464,7 @@ export class FlightsView {
 
   private async exportPng() {
     const bundled = this.map.map.getContainer().dataset.densityShown === 'false';
-    const blob = await mapPng(this.map.map, bundled ? null : this.legend.spec, this.caption());
+    const blob = await mapPng(this.map.map, bundled ? this.bundles.legendSpec : this.legend.spec, this.caption());
     download(blob, `${this.fileStem()}.png`);
   }
 

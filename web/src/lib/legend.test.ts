@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { densityTicks, dropCrowded, eqHistQuantile, linearTicks, normalizeSpan, type DensitySpan } from './legend';
+import { cubuRainbow, densityTicks, dropCrowded, eqHistQuantile, kmPerMercatorDegree, linearTicks, normalizeSpan, type DensitySpan } from './legend';
 
 /** The span of samples [1, 1, 1, 2, 3, 10] (as the server builds it: distinct values, fraction <= each). */
 const SPAN: DensitySpan = {
@@ -79,5 +79,20 @@ describe('linearTicks and dropCrowded', () => {
       { at: 1, label: 'e' },
     ]);
     expect(t.map((x) => x.label)).toEqual(['a', 'c', 'e']);
+  });
+});
+
+describe('cubuRainbow and Mercator lengths', () => {
+  it('has the render_math.cpp ends: blue-ish at 0 (off the darkest blue), red-ish at 1', () => {
+    // v = 0: w = 0.8 → r = 0, g = 0, b = (3 − 0.2 − 1.2)/2 = 0.8 → 204
+    expect(cubuRainbow(0)).toBe('rgb(0, 0, 204)');
+    // v = 1: w = 5.2 → r = (3 − 1.2 − 0.2)/2 = 0.8 → 204, g = 0, b = 0
+    expect(cubuRainbow(1)).toBe('rgb(204, 0, 0)');
+    // v = 0.5: w = 3 → r = 0, g = (4 − 1 − 1)/2 = 1 → 255, b = (3 − 2 − 1)/2 = 0
+    expect(cubuRainbow(0.5)).toBe('rgb(0, 255, 0)');
+  });
+  it('a Mercator degree is 111.32 km at the equator, half that at 60°', () => {
+    expect(kmPerMercatorDegree(0)).toBeCloseTo(111.32, 9);
+    expect(kmPerMercatorDegree(60)).toBeCloseTo(55.66, 9);
   });
 });

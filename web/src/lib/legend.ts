@@ -222,3 +222,23 @@ export function renderLegend(el: HTMLElement, spec: LegendSpec): void {
     el.append(note);
   }
 }
+
+/**
+ * CUBu's rainbow as the bundle tiles colour a polyline by its normalised length (mirror of
+ * compute/src/bundling/render/render_math.cpp `rainbow`, dx = 0.8), as a CSS colour.
+ */
+export function cubuRainbow(v: number): string {
+  const x = Math.min(1, Math.max(0, v));
+  const dx = 0.8;
+  const w = (6 - 2 * dx) * x + dx;
+  const ch = (c: number) => Math.round(Math.min(1, Math.max(0, c / 2)) * 255);
+  const r = ch(3 - Math.abs(w - 4) - Math.abs(w - 5));
+  const g = ch(4 - Math.abs(w - 2) - Math.abs(w - 4));
+  const b = ch(3 - Math.abs(w - 1) - Math.abs(w - 2));
+  return `rgb(${r}, ${g}, ${b})`;
+}
+
+/** Kilometres per "Mercator degree" (TSBL lengths) at latitude `lat`: the projection's scale there. */
+export function kmPerMercatorDegree(lat: number): number {
+  return 111.32 * Math.cos((lat * Math.PI) / 180);
+}
