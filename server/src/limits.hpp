@@ -44,6 +44,17 @@ inline constexpr std::size_t kMaxPointsPerResponse = 200000;
 /// full answer is ~25 MB.
 inline constexpr std::size_t kMaxPositionsPerResponse = 100000;
 
+// --- exports of a window ---------------------------------------------------------------------------
+/// Points (CSV rows; GeoJSON coordinates) of one export of a window's flights (GET .../export,
+/// `trailscope export`); more is 413 before a byte is sent. The Europe SO6 day (6.4 M points) fits whole:
+/// ~600 MB of CSV, streamed a piece at a time, never held in memory.
+inline constexpr std::uint64_t kMaxExportPoints = 10'000'000;
+/// Bytes of export text built per streamed piece (the work one call of the producer does on the I/O
+/// thread).
+inline constexpr std::size_t kExportPieceBytes = 256u << 10;
+/// Stops of one density legend (GET .../density/legend).
+inline constexpr int kMaxLegendStops = 256;
+
 // --- tiles -------------------------------------------------------------------------------------------
 /// Bytes of rendered PNG tiles kept by the server's LRU cache.
 inline constexpr std::size_t kTileCacheBytes = 256u << 20;

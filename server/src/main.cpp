@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   trailscope::cli::add_compare(app);
   trailscope::cli::add_congestion(app);
   trailscope::cli::add_token(app);
+  trailscope::cli::add_export(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

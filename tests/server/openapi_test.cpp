@@ -201,6 +201,12 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxImagePixels", double(L::kMaxImagePixels)},
       {"kMaxCompareReadFrames", double(L::kMaxCompareReadFrames)},
       {"kMaxMetricsRows", double(L::kMaxMetricsRows)},
+      // The flight dashboard: picking, exports, data quality.
+      {"kMaxPickTolerancePx", L::kMaxPickTolerancePx},
+      {"kMaxPickResults", double(L::kMaxPickResults)},
+      {"kMaxExportPoints", double(L::kMaxExportPoints)},
+      {"kExportPieceBytes", double(L::kExportPieceBytes)},
+      {"kMaxLegendStops", double(L::kMaxLegendStops)},
       // The network layer's admission limits (net/).
       {"kComputeWorkers", double(L::kComputeWorkers)},
       {"kMaxQueuedComputeRequests", double(L::kMaxQueuedComputeRequests)},

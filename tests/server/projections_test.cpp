@@ -60,6 +60,30 @@ TEST_F(ProjectionsTest, PcaOfPlanarPointsKeepsEveryDistance) {
   EXPECT_EQ(j["quality"]["k"], 10);
 }
 
+// A 20-row table (a 20-run sweep) with t-SNE's default perplexity 30: capped at (20 − 1) / 3 as openTSNE
+// does, the answer says which perplexity ran, and a perplexity the table holds runs as asked.
+TEST_F(ProjectionsTest, TsneOnTwentyRowsCapsThePerplexity) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 20; ++i) rows.push_back({i % 5, (i * 7) % 11, i / 4});
+  const auto table = nlohmann::json{{"columns", {"a", "b", "c"}}, {"rows", rows}};
+  const Response r = project({{"table", table}, {"method", "tsne"}, {"backend", "cpu"}});
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_DOUBLE_EQ(body(r)["perplexity"].get<double>(), 19.0 / 3.0);
+  EXPECT_EQ(body(r)["coordinates"].size(), 20u);
+  const Response five =
+      project({{"table", table}, {"method", "tsne"}, {"perplexity", 5}, {"backend", "cpu"}});
+  ASSERT_EQ(five.status, 200) << five.body;
+  EXPECT_DOUBLE_EQ(body(five)["perplexity"].get<double>(), 5.0);
+  // PCA has no perplexity.
+  EXPECT_FALSE(body(project({{"table", table}, {"method", "pca"}})).contains("perplexity"));
+  // Three rows cannot hold any perplexity.
+  const Response tiny =
+      project({{"table", {{"columns", {"a", "b"}}, {"rows", {{1, 2}, {3, 4}, {5, 7}}}}}, {"method", "tsne"}});
+  expect_error(tiny, 400, "invalid_argument", "table");
+  EXPECT_EQ(body(tiny)["detail"],
+            "t-SNE needs at least 4 rows (perplexity ≥ 1 needs 3 neighbours); the table has 3");
+}
+
 TEST_F(ProjectionsTest, StoredRunsBecomeATableOfWhatVaries) {
   std::mt19937 rng(5);
   for (std::size_t k = 0; k < 30; ++k)

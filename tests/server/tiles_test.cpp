@@ -87,43 +87,5 @@ TEST_F(TilesTest, ErrorsNameTheParameter) {
   expect_bad(get(kTile, {{"cmap", "rainbow"}}, {{"if-none-match", "*"}}), "cmap");
 }
 
-// The legend's scale route: the span the tiles of a zoom are shaded with. The one flight flies level at
-// 10,000 m and 220 m/s, so the mean altitude and speed of every pixel it crosses are exactly those: both
-// spans collapse to that one value. Its count span starts at 1 (a drawn pixel holds >= 1 segment).
-TEST_F(TilesTest, ScaleIsTheTilesSpan) {
-  constexpr const char* kScale = "/api/v1/datasets/nl/density/scale";
-  const Response alt = get(kScale, {{"z", "6"}, {"value", "altitude"}, {"how", "linear"}});
-  ASSERT_EQ(alt.status, 200) << alt.body;
-  const auto a = nlohmann::json::parse(alt.body);
-  EXPECT_EQ(a["unit"], "m");
-  EXPECT_FALSE(a["empty"].get<bool>());
-  EXPECT_NEAR(a["lo"].get<double>(), 10000.0, 1e-3);
-  EXPECT_NEAR(a["hi"].get<double>(), 10000.0, 1e-3);
-  const auto spd = nlohmann::json::parse(get(kScale, {{"z", "6"}, {"value", "speed"}}).body);
-  EXPECT_EQ(spd["unit"], "m/s");
-  EXPECT_NEAR(spd["lo"].get<double>(), 220.0, 1e-3);
-  EXPECT_NEAR(spd["hi"].get<double>(), 220.0, 1e-3);
-  const Response cnt = get(kScale, {{"z", "6"}});
-  ASSERT_EQ(cnt.status, 200) << cnt.body;
-  const auto c = nlohmann::json::parse(cnt.body);
-  EXPECT_EQ(c["how"], "eq_hist");
-  EXPECT_GE(c["lo"].get<double>(), 1.0);
-  EXPECT_GE(c["hi"].get<double>(), c["lo"].get<double>());
-  ASSERT_FALSE(c["cdf"].empty());
-  EXPECT_EQ(c["cdf"].size(), c["cdf_values"].size());
-  EXPECT_DOUBLE_EQ(c["cdf"].back().get<double>(), 1.0);
-  EXPECT_DOUBLE_EQ(c["cdf_values"].front().get<double>(), c["lo"].get<double>());
-  // A window with no traffic: an empty span.
-  const auto none =
-      nlohmann::json::parse(get(kScale, {{"z", "6"}, {"t0", "1600000000"}, {"t1", "1600000600"}}).body);
-  EXPECT_TRUE(none["empty"].get<bool>());
-  expect_bad(get(kScale, {{"z", "23"}}), "z");
-  expect_bad(get(kScale, {{"value", "heat"}}), "value");
-  expect_bad(get(kScale, {{"how", "cubic"}}), "how");
-  expect_bad(get(kScale, {{"size", "300"}}), "size");
-  expect_bad(get(kScale, {{"cmap", "fire"}}), "cmap");
-  expect_error(get("/api/v1/datasets/none/density/scale"), 404, "not_found", "dataset");
-}
-
 }  // namespace
 }  // namespace trailscope::server

@@ -101,6 +101,14 @@ void validate(const TileRequest& request) {
   colormap(request.cmap, "cmap");
   validate_kernel_radius(request.kernel_radius);
   validate_gap(request.max_gap_seconds);
+  const double level = effective_min_level(request);
+  if (!(level >= 0 && level < 1))
+    throw invalid_argument("min_level", "min_level must lie in [0, 1), got " + format_double(level));
+}
+
+double effective_min_level(const TileRequest& request) {
+  if (request.min_level) return *request.min_level;
+  return request.value == DensityValue::count ? kDefaultCountMinLevel : 0.0;
 }
 
 Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& canvas,
@@ -301,10 +309,20 @@ TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::strin
     shade_options.how = request.how;
     shade_options.cmap = request.cmap;
     shade_options.alpha_ramp = request.alpha_ramp;
+    shade_options.min_level = effective_min_level(request);
     out.png = encode_png(shade(res.raster, *span, shade_options));
   }
   out.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return out;
+}
+
+Legend DensityRenderer::legend(const TrailSet& trails, const std::string& dataset_key, const Query& query,
+                               const TileRequest& request, int stops) {
+  validate(request);
+  (void)density::legend(SpanStats{}, request.how, request.cmap, effective_min_level(request),
+                        stops);  // fail first
+  const std::shared_ptr<const SpanStats> span = span_for(trails, dataset_key, query, request);
+  return density::legend(*span, request.how, request.cmap, effective_min_level(request), stops);
 }
 
 void DensityRenderer::forget_dataset(std::string_view dataset_key) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trailscope/core/error.hpp"
+#include "trailscope/core/text.hpp"
 #include "trailscope/density/colormap.hpp"
 
 namespace trailscope::density {
@@ -19,9 +20,13 @@ Image shade(const Raster& raster, const SpanStats& span, const ShadeOptions& opt
   if (options.min_alpha < 0 || options.min_alpha > 255)
     throw invalid_argument("min_alpha",
                            "min_alpha " + std::to_string(options.min_alpha) + " is outside 0..255");
+  if (!(options.min_level >= 0 && options.min_level < 1))
+    throw invalid_argument("min_level",
+                           "min_level must lie in [0, 1), got " + format_double(options.min_level));
   auto compute = [&](float v) {
     const double t = span.normalize(v, options.how);
-    return Shaded{static_cast<std::uint8_t>(std::lround(t * 255.0)),
+    const double level = options.min_level + t * (1.0 - options.min_level);
+    return Shaded{static_cast<std::uint8_t>(std::lround(level * 255.0)),
                   options.alpha_ramp ? static_cast<std::uint8_t>(
                                            std::lround(options.min_alpha + t * (255.0 - options.min_alpha)))
                                      : std::uint8_t{255}};

@@ -2,7 +2,9 @@
 #include "trailscope/ingest/ingest.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "ingest/detail.hpp"
 #include "trailscope/core/error.hpp"
@@ -21,8 +23,46 @@ nlohmann::json IngestReport::to_json() const {
           {"flights", flights},
           {"points", points},
           {"rejects", std::move(list)},
-          {"seconds", seconds}};
+          {"seconds", seconds},
+          {"quality", [&] {
+             nlohmann::json q = quality.to_json();
+             nlohmann::json ex = nlohmann::json::array();
+             for (const auto& e : jump_splits.examples)
+               ex.push_back({{"flight_id", e.flight_id},
+                             {"callsign", e.callsign},
+                             {"t", e.t},
+                             {"value", e.value},
+                             {"value_kt", e.value / kKnot}});
+             q["jump_splits"] = {{"count", jump_splits.count}, {"examples", std::move(ex)}};
+             return q;
+           }()}};
 }
+
+namespace {
+// The jump splits with the largest implied speeds, each named by the flight that starts after it (the
+// flight of that aircraft whose first sample is the jump's).
+QualityCount jump_split_report(const TrailSet& set, std::vector<TrailSetBuilder::Stats::Jump> jumps) {
+  QualityCount out;
+  out.count = jumps.size();
+  std::sort(jumps.begin(), jumps.end(), [](const auto& a, const auto& b) {
+    return a.speed_ms != b.speed_ms ? a.speed_ms > b.speed_ms : a.t < b.t;
+  });
+  if (jumps.size() > kQualityExamples) jumps.resize(kQualityExamples);
+  for (const auto& j : jumps) {
+    QualityExample e;
+    e.callsign = j.callsign, e.t = j.t, e.value = j.speed_ms;
+    for (std::size_t fi = 0; fi < set.num_flights(); ++fi) {
+      const Flight& f = set.flights()[fi];
+      if (f.t_min == j.t && f.callsign == j.callsign && f.icao24 == j.icao24) {
+        e.flight_id = static_cast<std::uint32_t>(fi);
+        break;
+      }
+    }
+    out.examples.push_back(std::move(e));
+  }
+  return out;
+}
+}  // namespace
 
 TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestReport* report) {
   const auto start = std::chrono::steady_clock::now();
@@ -67,13 +107,18 @@ TrailSet ingest_file(const std::string& path, const IngestOptions& opts, IngestR
 
   if (opts.progress) opts.progress(0.0, "assemble");
   TrailSetBuilder::Stats stats;
-  TrailSet set = builder.build(&stats, ctx.gap_seconds);
+  TrailSet set = builder.build(&stats, ctx.gap_seconds,
+                               opts.split_jumps.value_or(rep.format != Format::so6)
+                                   ? kMaxPlausibleSpeedMs
+                                   : std::numeric_limits<double>::infinity());
   if (opts.cancel) opts.cancel->throw_if_cancelled();
   if (opts.progress) opts.progress(1.0, "assemble");
 
   rep.duplicates = stats.duplicates + ctx.reader_duplicates;
   rep.flights = set.num_flights();
   rep.points = set.num_points();
+  rep.quality = check_quality(set, Query{});
+  rep.jump_splits = jump_split_report(set, stats.jumps);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (report) *report = std::move(rep);
   return set;

@@ -1,4 +1,5 @@
 // project(): option checks, standardisation, and the method switch.
+#include <algorithm>
 #include <chrono>
 
 #include "projection/detail.hpp"
@@ -34,6 +35,14 @@ const char* to_string(Method m) noexcept {
   return "?";
 }
 
+double effective_perplexity(double perplexity, std::size_t rows) {
+  if (rows < 4)
+    throw invalid_argument("table",
+                           "t-SNE needs at least 4 rows (perplexity ≥ 1 needs 3 neighbours); the table has " +
+                               std::to_string(rows));
+  return std::min(perplexity, static_cast<double>(rows - 1) / 3.0);
+}
+
 Embedding project(const Table& table, const ProjectOptions& o) {
   validate_table(table);
   if (o.iterations < 0 || o.iterations > limits::kMaxProjectionIterations)
@@ -62,7 +71,11 @@ Embedding project(const Table& table, const ProjectOptions& o) {
       break;
     case Method::tsne: {
       TsneOptions to;
-      to.perplexity = o.perplexity;
+      if (!(o.perplexity >= 1.0) || !(o.perplexity <= limits::kMaxPerplexity))  // before capping it
+        throw invalid_argument("perplexity", "perplexity must be in [1, " +
+                                                 std::to_string(static_cast<int>(limits::kMaxPerplexity)) +
+                                                 "], not " + std::to_string(o.perplexity));
+      to.perplexity = effective_perplexity(o.perplexity, t.rows);
       to.iterations = o.iterations ? o.iterations : TsneOptions{}.iterations;
       to.exaggeration_iterations = o.exaggeration_iterations;
       to.exaggeration = o.exaggeration;
@@ -72,6 +85,7 @@ Embedding project(const Table& table, const ProjectOptions& o) {
       to.progress = o.progress;
       to.cancel = o.cancel;
       e = tsne(t, to, o.backend);
+      e.perplexity = to.perplexity;
       break;
     }
   }

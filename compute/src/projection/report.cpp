@@ -50,6 +50,7 @@ nlohmann::json to_json(const ProjectionReport& r) {
                         {"sampled", q.sampled},
                         {"queries", q.queries}}}};
   for (const auto& [phase, ms] : r.embedding.timings_ms) j["timings_ms"][phase] = ms;
+  if (r.method == Method::tsne) j["perplexity"] = r.embedding.perplexity;
   nlohmann::json coords = nlohmann::json::array();
   for (std::size_t i = 0; i < r.embedding.rows; ++i) coords.push_back({r.embedding.x(i), r.embedding.y(i)});
   j["coordinates"] = std::move(coords);

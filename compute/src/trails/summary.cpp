@@ -12,6 +12,8 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/core/text.hpp"
+#include "trailscope/trails/export.hpp"
 #include "trailscope/trails/point_filter.hpp"
 
 namespace trailscope {
@@ -202,6 +204,7 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
   });
   all.resize(k);
   s.top_callsigns = std::move(all);
+  s.quality = check_quality(set, q);
   return s;
 }
 
@@ -232,10 +235,154 @@ nlohmann::json Summary::to_json() const {
         {"p50", speed.p50},
         {"p95", speed.p95}}},
       {"top_callsigns", std::move(top)},
+      {"quality", quality.to_json()},
   };
 }
 
-FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, std::size_t page_size) {
+const std::vector<std::string>& Summary::csv_tables() {
+  static const std::vector<std::string> tables = {"totals", "time_histogram", "altitude_histogram",
+                                                  "top_callsigns", "quality"};
+  return tables;
+}
+
+std::string Summary::to_csv(const std::string& table) const {
+  std::string out;
+  const auto num = [&out](double v) {
+    if (std::isfinite(v)) append_shortest(out, v);
+  };
+  if (table == "totals") {
+    out = "key,value\n";
+    const auto row = [&](const char* key, double v, bool known = true) {
+      out += key;
+      out += ',';
+      if (known) num(v);
+      out += '\n';
+    };
+    row("flights", double(flights));
+    row("points", double(points));
+    row("t_min", t_min, points > 0);
+    row("t_max", t_max, points > 0);
+    row("speed_count", double(speed.count));
+    row("speed_min_ms", speed.min);
+    row("speed_max_ms", speed.max);
+    row("speed_mean_ms", speed.mean);
+    row("speed_p50_ms", speed.p50);
+    row("speed_p95_ms", speed.p95);
+    row("implausible_speeds", double(quality.speed.count));
+    row("implausible_altitudes", double(quality.altitude.count));
+    row("position_jumps", double(quality.jumps.count));
+  } else if (table == "time_histogram") {
+    out = "t0,t1,points\n";
+    for (std::size_t i = 0; i < time_histogram.counts.size(); ++i) {
+      num(time_histogram.t0 + double(i) * time_histogram.bin_seconds);
+      out += ',';
+      num(time_histogram.t0 + double(i + 1) * time_histogram.bin_seconds);
+      out += ',' + std::to_string(time_histogram.counts[i]) + '\n';
+    }
+  } else if (table == "altitude_histogram") {
+    out = "lower,upper,unit,points\n";
+    const std::string unit = altitude_histogram.unit == AltUnit::m ? "m" : "ft";
+    for (std::size_t i = 0; i < altitude_histogram.counts.size(); ++i) {
+      num(altitude_histogram.min + double(i) * altitude_histogram.bin_width);
+      out += ',';
+      num(altitude_histogram.min + double(i + 1) * altitude_histogram.bin_width);
+      out += ',' + unit + ',' + std::to_string(altitude_histogram.counts[i]) + '\n';
+    }
+  } else if (table == "top_callsigns") {
+    out = "callsign,flights,points\n";
+    for (const auto& c : top_callsigns)
+      out += csv_field(c.callsign) + ',' + std::to_string(c.flights) + ',' + std::to_string(c.points) + '\n';
+  } else if (table == "quality") {
+    out = "kind,flight_id,callsign,t,value\n";
+    const std::pair<const char*, const QualityCount*> kinds[] = {
+        {"speed", &quality.speed}, {"altitude", &quality.altitude}, {"jump", &quality.jumps}};
+    for (const auto& [kind, c] : kinds)
+      for (const auto& e : c->examples) {
+        out += std::string(kind) + ',' + std::to_string(e.flight_id) + ',' + csv_field(e.callsign) + ',';
+        num(e.t);
+        out += ',';
+        num(e.value);
+        out += '\n';
+      }
+  } else {
+    std::string list;
+    for (const auto& t : csv_tables()) list += (list.empty() ? "" : ", ") + t;
+    throw invalid_argument("table", "table must be one of " + list + ", got '" + table + "'");
+  }
+  return out;
+}
+
+const std::vector<std::string>& flight_sort_keys() {
+  static const std::vector<std::string> keys = {"id",
+                                                "icao24",
+                                                "callsign",
+                                                "t_start",
+                                                "t_end",
+                                                "duration_s",
+                                                "points",
+                                                "alt_max_m",
+                                                "flight_t_start",
+                                                "flight_t_end",
+                                                "flight_duration_s",
+                                                "flight_points"};
+  return keys;
+}
+
+FlightSort parse_flight_sort(const std::string& sort, const std::string& order, const std::string& sort_param,
+                             const std::string& order_param) {
+  FlightSort out;
+  const auto& keys = flight_sort_keys();
+  const auto it = std::find(keys.begin(), keys.end(), sort);
+  if (it == keys.end()) {
+    std::string list;
+    for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+    throw invalid_argument(sort_param, sort_param + " must be one of " + list + ", got '" + sort + "'");
+  }
+  out.key = static_cast<FlightSortKey>(it - keys.begin());
+  if (order != "asc" && order != "desc")
+    throw invalid_argument(order_param, order_param + " must be 'asc' or 'desc', got '" + order + "'");
+  out.descending = order == "desc";
+  return out;
+}
+
+namespace {
+// -1, 0, 1 as a < b, a == b, a > b on the sort column; an unknown altitude is "greatest" here and placed
+// last by the caller in both directions.
+int compare_rows(const FlightRow& a, const FlightRow& b, FlightSortKey key,
+                 const std::vector<Flight>& flights) {
+  const auto cmp = [](auto x, auto y) { return x < y ? -1 : (y < x ? 1 : 0); };
+  switch (key) {
+    case FlightSortKey::id:
+      return cmp(a.id, b.id);
+    case FlightSortKey::icao24:
+      return cmp(flights[a.id].icao24.compare(flights[b.id].icao24), 0);
+    case FlightSortKey::callsign:
+      return cmp(flights[a.id].callsign.compare(flights[b.id].callsign), 0);
+    case FlightSortKey::t_start:
+      return cmp(a.t_start, b.t_start);
+    case FlightSortKey::t_end:
+      return cmp(a.t_end, b.t_end);
+    case FlightSortKey::duration_s:
+      return cmp(a.duration_s, b.duration_s);
+    case FlightSortKey::points:
+      return cmp(a.points, b.points);
+    case FlightSortKey::alt_max_m:
+      return cmp(a.alt_max_m, b.alt_max_m);  // NaN handled by the caller
+    case FlightSortKey::flight_t_start:
+      return cmp(a.flight_t_start, b.flight_t_start);
+    case FlightSortKey::flight_t_end:
+      return cmp(a.flight_t_end, b.flight_t_end);
+    case FlightSortKey::flight_duration_s:
+      return cmp(a.flight_duration_s, b.flight_duration_s);
+    case FlightSortKey::flight_points:
+      return cmp(a.flight_points, b.flight_points);
+  }
+  return 0;
+}
+}  // namespace
+
+FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, std::size_t page_size,
+                        const FlightSort& sort) {
   if (page_size < 1 || page_size > limits::kMaxPageSize)
     throw invalid_argument("page_size", "page_size must lie in 1..1000");
   const auto& pts = set.points();
@@ -256,16 +403,26 @@ FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, s
         if (a == a && !(a <= row.alt_max_m)) row.alt_max_m = a;
       }
       row.id = static_cast<std::uint32_t>(fi);
+      row.duration_s = row.t_end - row.t_start;
+      row.flight_t_start = f.t_min, row.flight_t_end = f.t_max;
+      row.flight_duration_s = f.t_max - f.t_min;
+      row.flight_points = f.size();
     }
   });
   std::vector<FlightRow> hits;
   for (auto& r : rows)
     if (r.points) hits.push_back(std::move(r));
-  std::stable_sort(hits.begin(), hits.end(), [](const FlightRow& a, const FlightRow& b) {
-    return a.t_start != b.t_start ? a.t_start < b.t_start : a.id < b.id;
+  const bool alt = sort.key == FlightSortKey::alt_max_m;
+  std::sort(hits.begin(), hits.end(), [&](const FlightRow& a, const FlightRow& b) {
+    if (alt && std::isnan(a.alt_max_m) != std::isnan(b.alt_max_m)) return std::isnan(b.alt_max_m);
+    if (!(alt && std::isnan(a.alt_max_m))) {
+      const int c = compare_rows(a, b, sort.key, flights);
+      if (c != 0) return sort.descending ? c > 0 : c < 0;
+    }
+    return a.id < b.id;
   });
   FlightPage out;
-  out.total = hits.size(), out.page = page, out.page_size = page_size;
+  out.total = hits.size(), out.page = page, out.page_size = page_size, out.sort = sort;
   const std::size_t first = std::min(hits.size(), page * page_size);
   const std::size_t last = std::min(hits.size(), first + page_size);
   for (std::size_t i = first; i < last; ++i) {
@@ -284,9 +441,19 @@ nlohmann::json FlightPage::to_json() const {
                     {"callsign", r.callsign},
                     {"t_start", r.t_start},
                     {"t_end", r.t_end},
+                    {"duration_s", r.duration_s},
                     {"points", r.points},
-                    {"alt_max_m", std::isnan(r.alt_max_m) ? nlohmann::json() : nlohmann::json(r.alt_max_m)}});
-  return {{"total", total}, {"page", page}, {"page_size", page_size}, {"flights", std::move(list)}};
+                    {"alt_max_m", std::isnan(r.alt_max_m) ? nlohmann::json() : nlohmann::json(r.alt_max_m)},
+                    {"flight_t_start", r.flight_t_start},
+                    {"flight_t_end", r.flight_t_end},
+                    {"flight_duration_s", r.flight_duration_s},
+                    {"flight_points", r.flight_points}});
+  return {{"total", total},
+          {"page", page},
+          {"page_size", page_size},
+          {"sort", flight_sort_keys()[static_cast<std::size_t>(sort.key)]},
+          {"order", sort.descending ? "desc" : "asc"},
+          {"flights", std::move(list)}};
 }
 
 nlohmann::json flight_geojson(const TrailSet& set, std::size_t flight_id, const Query& q, bool clip,

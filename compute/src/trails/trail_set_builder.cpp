@@ -8,6 +8,7 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/trails/quality.hpp"
 
 namespace trailscope {
 
@@ -58,7 +59,7 @@ void TrailSetBuilder::add(std::string_view icao24, std::string_view callsign, co
   ++samples_;
 }
 
-TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds) {
+TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, double jump_speed_ms) {
   if (gap_seconds <= 0) gap_seconds = limits::kFlightGapSeconds;
   if (samples_ > std::numeric_limits<std::uint32_t>::max())
     throw Error(Error::Kind::payload_too_large, "", "a dataset holds at most 2^32-1 points");
@@ -87,9 +88,19 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds) {
     samples.resize(w);
     std::size_t b = 0;
     for (std::size_t i = 1; i <= samples.size(); ++i) {
-      if (i == samples.size() || samples[i].t - samples[i - 1].t > gap_seconds) {
+      bool split = i == samples.size() || samples[i].t - samples[i - 1].t > gap_seconds, jump = false;
+      if (!split && jump_speed_ms < std::numeric_limits<double>::infinity()) {
+        const Sample &a = samples[i - 1], &c = samples[i];
+        const double v = implied_speed_ms(a.t, a.lat, a.lon, c.t, c.lat, c.lon);
+        if (v > jump_speed_ms) {
+          split = jump = true;
+          ++local.jump_splits;
+          local.jumps.push_back({key.icao24, key.callsign, c.t, v});
+        }
+      }
+      if (split) {
         pieces.push_back({samples[b].t, &key, &samples, b, i});
-        if (i != samples.size()) ++local.splits;
+        if (i != samples.size() && !jump) ++local.splits;
         b = i;
       }
     }

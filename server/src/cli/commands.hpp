@@ -24,6 +24,8 @@ void add_compare(CLI::App& app);
 void add_congestion(CLI::App& app);
 /// `trailscope token create|list|revoke` (cli/token.cpp).
 void add_token(CLI::App& app);
+/// `trailscope export`: the window's flights as GeoJSON or CSV (cli/export.cpp).
+void add_export(CLI::App& app);
 
 /// The airspace-window filters shared by `query` and `tile` (--bbox --t0 --t1 --alt-min --alt-max
 /// --alt-unit --icao24 --callsign --on-ground), collected as the REST API's parameter map so that

@@ -1,5 +1,6 @@
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "trailscope/core/json_text.hpp"
 #include "cli/commands.hpp"
@@ -16,6 +17,7 @@ void add_ingest(CLI::App& app) {
   struct Opts {
     std::string file, data_dir = default_data_dir(), name, format;
     bool json = false, quiet = false;
+    std::optional<bool> split_jumps;
   };
   auto o = std::make_shared<Opts>();
   cmd->add_option("FILE", o->file, "input file")->required();
@@ -25,6 +27,10 @@ void add_ingest(CLI::App& app) {
                   "opensky_csv | traffic_json | so6 | readsb_trace (default: detected)");
   cmd->add_flag("--json", o->json, "print the dataset and its ingest report as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
+  cmd->add_option(
+      "--split-jumps", o->split_jumps,
+      "true | false: split flights at position jumps implying more than 800 kt (default: true for "
+      "position reports, false for SO6)");
   cmd->callback([o] {
     server::IngestRequest req;
     req.file = o->file;
@@ -35,6 +41,7 @@ void add_ingest(CLI::App& app) {
     }
     req.name = o->name;
     if (!o->format.empty()) req.format = o->format;
+    req.split_jumps = o->split_jumps;
     server::EmbeddedStore store(o->data_dir);
     std::shared_ptr<const server::Dataset> ds;
     {
@@ -47,6 +54,12 @@ void add_ingest(CLI::App& app) {
     } else {
       std::cout << "dataset " << ds->id << ": " << j["flights"] << " flights, " << j["points"] << " points, "
                 << ds->ingest.value("rejected", 0) << " rows rejected (" << ds->format << ")" << std::endl;
+      if (const auto q = ds->ingest.find("quality"); q != ds->ingest.end())
+        std::cout << "implausible: " << (*q)["speed"]["count"] << " ground speeds over "
+                  << (*q)["limits"]["speed_kt"] << " kt, " << (*q)["altitude"]["count"]
+                  << " altitudes over FL" << (*q)["limits"]["altitude_fl"] << ", " << (*q)["jumps"]["count"]
+                  << " position jumps; " << (*q)["jump_splits"]["count"] << " flights split at jumps"
+                  << std::endl;
     }
   });
 }

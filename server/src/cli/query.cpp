@@ -68,6 +68,9 @@ void add_query(CLI::App& app) {
     bool geojson = false;
     std::int64_t duration = limits::kDefaultAnimationChunkSeconds;
     std::string origin, out;
+    std::string sort = "t_start", order = "asc";
+    bool csv = false;
+    std::string table = "totals";
     QueryFlags flags;
   };
   auto o = std::make_shared<Opts>();
@@ -81,14 +84,23 @@ void add_query(CLI::App& app) {
   common(summary);
   summary->add_option("--bins", o->bins, "time-histogram bins")->capture_default_str();
   summary->add_option("--top", o->top, "top callsigns listed")->capture_default_str();
+  summary->add_flag("--csv", o->csv, "print one table as CSV (the API's format=csv)");
+  summary
+      ->add_option("--table", o->table,
+                   "with --csv: totals, time_histogram, altitude_histogram or top_callsigns")
+      ->capture_default_str();
   summary->callback([o] {
+    if (o->csv && o->json) throw invalid_argument("csv", "--csv and --json exclude each other");
+    if (o->csv) (void)Summary{}.to_csv(o->table);  // an unknown table is refused before the work
     server::EmbeddedStore store(o->data_dir);
     const auto ds = store.get(o->dataset);
     SummaryOptions opts;
     opts.bins = o->bins, opts.top_callsigns = o->top;
     if (o->flags.params.count("alt_unit") && o->flags.params["alt_unit"] == "m") opts.alt_unit = AltUnit::m;
     const Summary s = summarize(*ds->trails, parse_query(o->flags.params), opts);
-    if (o->json)
+    if (o->csv)
+      std::cout << s.to_csv(o->table);
+    else if (o->json)
       std::cout << json_text(s.to_json(), 2) << std::endl;
     else
       print_summary(s);
@@ -97,19 +109,28 @@ void add_query(CLI::App& app) {
   common(flights);
   flights->add_option("--page", o->page, "page, from 0")->capture_default_str();
   flights->add_option("--page-size", o->page_size, "flights per page")->capture_default_str();
+  flights
+      ->add_option("--sort", o->sort,
+                   "column: id, icao24, callsign, in window t_start, t_end, duration_s, points, alt_max_m, "
+                   "whole flight flight_t_start, flight_t_end, flight_duration_s, flight_points")
+      ->capture_default_str();
+  flights->add_option("--order", o->order, "asc or desc (ties by ascending id)")->capture_default_str();
   flights->callback([o] {
+    const FlightSort sort = parse_flight_sort(o->sort, o->order);
     server::EmbeddedStore store(o->data_dir);
     const auto ds = store.get(o->dataset);
-    const FlightPage p = list_flights(*ds->trails, parse_query(o->flags.params), o->page, o->page_size);
+    const FlightPage p = list_flights(*ds->trails, parse_query(o->flags.params), o->page, o->page_size, sort);
     if (o->json) {
       std::cout << json_text(p.to_json(), 2) << std::endl;
       return;
     }
-    std::printf("%llu flights; page %zu:\n", static_cast<unsigned long long>(p.total), p.page);
+    std::printf("%llu flights; page %zu, by %s %s; in window | whole flight:\n",
+                static_cast<unsigned long long>(p.total), p.page, o->sort.c_str(), o->order.c_str());
     for (const auto& f : p.flights)
-      std::printf("%8u %-6s %-9s %s .. %s %7llu pts\n", f.id, f.icao24.c_str(), f.callsign.c_str(),
-                  iso_utc(f.t_start).c_str(), iso_utc(f.t_end).c_str(),
-                  static_cast<unsigned long long>(f.points));
+      std::printf("%8u %-6s %-9s %s .. %s %7llu pts | %s .. %s %7llu pts\n", f.id, f.icao24.c_str(),
+                  f.callsign.c_str(), iso_utc(f.t_start).c_str(), iso_utc(f.t_end).c_str(),
+                  static_cast<unsigned long long>(f.points), iso_utc(f.flight_t_start).c_str(),
+                  iso_utc(f.flight_t_end).c_str(), static_cast<unsigned long long>(f.flight_points));
   });
   auto* positions = cmd->add_subcommand(
       "positions",

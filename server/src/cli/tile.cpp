@@ -27,6 +27,7 @@ void congestion_tile(const Opts& o, const server::Dataset& ds, const Query& q) {
   if (o.value != "count") throw invalid_argument("value", "--value does not apply to --congestion");
   if (o.kernel != 0) throw invalid_argument("kernel", "--kernel does not apply to --congestion");
   if (!o.backend.empty()) throw invalid_argument("backend", "--backend does not apply to --congestion");
+  if (o.min_level) throw invalid_argument("min_level", "--min-level does not apply to --congestion");
   congestion::CongestionTileRequest req;
   req.tile = geo::TileId{o.z, o.x, o.y};
   req.size = o.size;
@@ -61,7 +62,7 @@ void add_tile(CLI::App& app) {
     int z = 0, x = 0, y = 0, size = 256, kernel = 0;
     bool json = false, congestion = false;
     double threshold = 1.0;
-    std::optional<double> vmax;
+    std::optional<double> vmax, min_level;
     QueryFlags flags;
   };
   auto o = std::make_shared<Opts>();
@@ -77,6 +78,9 @@ void add_tile(CLI::App& app) {
   cmd->add_option("--cmap", o->cmap, "fire | viridis | inferno | magma | gray")->capture_default_str();
   cmd->add_option("--size", o->size, "256 or 512")->capture_default_str();
   cmd->add_option("--kernel", o->kernel, "KDE kernel radius in pixels (0 = none)")->capture_default_str();
+  cmd->add_option(
+      "--min-level", o->min_level,
+      "colormap position [0, 1) of the lowest non-empty pixel (default 0.25 for count, 0 otherwise)");
   cmd->add_option("--backend", o->backend, "cpu | opencl | auto");
   cmd->add_flag("--json", o->json, "print what was rendered as JSON");
   cmd->add_flag("--congestion", o->congestion,
@@ -101,6 +105,7 @@ void add_tile(CLI::App& app) {
     req.how = density::parse_how(o->how.empty() ? "eq_hist" : o->how, "how");
     req.cmap = o->cmap;
     req.kernel_radius = o->kernel;
+    req.min_level = o->min_level;
     req.max_gap_seconds =
         std::numeric_limits<double>::infinity();  // as the tile route: flights are split at ingest
     req.backend = o->backend.empty() ? default_backend() : parse_backend(o->backend, "backend");

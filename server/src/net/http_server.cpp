@@ -114,7 +114,33 @@ http::response<http::string_body> to_beast(Response res, unsigned version, bool 
 // Writes a response; shared bodies (cached tiles) go out without a copy, kept alive by `res`.
 net::awaitable<void> write_response(beast::tcp_stream& stream, Response res, unsigned version,
                                     bool keep_alive, beast::error_code& ec) {
-  if (res.head_only) {
+  if (res.stream) {
+    // Chunked transfer (RFC 9112 §7.1): the header, one chunk per piece the route's producer appends, the
+    // last chunk. A HEAD gets the header only.
+    http::response<http::empty_body> out{static_cast<http::status>(res.status), version};
+    set_head(out, res, keep_alive);
+    out.chunked(true);
+    http::response_serializer<http::empty_body> sr{out};
+    co_await http::async_write_header(stream, sr, net::redirect_error(net::use_awaitable, ec));
+    if (res.head_only) co_return;
+    std::string piece;
+    for (bool more = true; more && !ec;) {
+      piece.clear();
+      try {
+        more = res.stream(piece);
+      } catch (const std::exception&) {
+        // Mid-body there is no status left to send: the connection closes without the last chunk, which
+        // a client reads as a truncated transfer.
+        ec = net::error::operation_aborted;
+        break;
+      }
+      if (!piece.empty())
+        co_await net::async_write(stream, http::make_chunk(net::buffer(piece)),
+                                  net::redirect_error(net::use_awaitable, ec));
+    }
+    if (!ec)
+      co_await net::async_write(stream, http::make_chunk_last(), net::redirect_error(net::use_awaitable, ec));
+  } else if (res.head_only) {
     http::response<http::empty_body> out{static_cast<http::status>(res.status), version};
     set_head(out, res, keep_alive);
     out.content_length(res.bytes().size());

@@ -40,7 +40,7 @@ namespace {
 // The parameters of a dataset upload, checked (a taken name is 409): what the precheck runs on the header
 // and the handler again once the body is there.
 IngestRequest dataset_upload(App& app, const Request& req) {
-  reject_unknown_params(req, {"name", "format"});
+  reject_unknown_params(req, {"name", "format", "split_jumps"});
   auto it = req.query.find("name");
   if (it == req.query.end() || it->second.empty())
     throw invalid_argument("name", "name: the dataset name is required (?name=...)");
@@ -50,6 +50,11 @@ IngestRequest dataset_upload(App& app, const Request& req) {
   if (auto f = req.query.find("format"); f != req.query.end() && f->second != "auto") {
     ingest::parse_format(f->second, "format");  // fail now, not in the job
     ing.format = f->second;
+  }
+  if (auto s = req.query.find("split_jumps"); s != req.query.end()) {
+    if (s->second != "true" && s->second != "false")
+      throw invalid_argument("split_jumps", "split_jumps must be 'true' or 'false', got '" + s->second + "'");
+    ing.split_jumps = s->second == "true";
   }
   if (app.store->contains(ing.name))
     throw Error(Error::Kind::conflict, "name", "dataset '" + ing.name + "' already exists");
@@ -71,7 +76,7 @@ Response create_dataset(App& app, const Request& req, const PathParams&) {
 }
 
 Response summary(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, params::with_query_keys({"bins", "top"}));
+  reject_unknown_params(req, params::with_query_keys({"bins", "top", "format", "table"}));
   const auto ds = app.store->get(p.at("dataset"));
   const Query q = parse_query(req.query);
   SummaryOptions opts;
@@ -80,6 +85,22 @@ Response summary(App& app, const Request& req, const PathParams& p) {
       static_cast<int>(params::integer(req, "top", opts.top_callsigns, 0, limits::kMaxTopCallsigns));
   if (auto u = req.query.find("alt_unit"); u != req.query.end() && u->second == "m")
     opts.alt_unit = AltUnit::m;
+  const std::string format = params::text(req, "format", "json");
+  if (format != "json" && format != "csv")
+    throw invalid_argument("format", "format must be 'json' or 'csv', got '" + format + "'");
+  const std::string table = params::text(req, "table", "totals");
+  if (format == "json" && req.query.count("table"))
+    throw invalid_argument("table", "table applies to format=csv only (the JSON holds every table)");
+  if (format == "csv") {
+    (void)Summary{}.to_csv(table);  // an unknown table is refused before the work
+    const Summary s = summarize(*ds->trails, q, opts);
+    Response res;
+    res.content_type = "text/csv; charset=utf-8";
+    res.body = s.to_csv(table);
+    res.headers.emplace_back("Content-Disposition",
+                             "attachment; filename=\"" + ds->id + "-summary-" + table + ".csv\"");
+    return res;
+  }
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json j = summarize(*ds->trails, q, opts).to_json();
   j["dataset"] = ds->id;
@@ -90,12 +111,14 @@ Response summary(App& app, const Request& req, const PathParams& p) {
 }
 
 Response list_flights(App& app, const Request& req, const PathParams& p) {
-  reject_unknown_params(req, params::with_query_keys({"page", "page_size"}));
+  reject_unknown_params(req, params::with_query_keys({"page", "page_size", "sort", "order"}));
   const auto ds = app.store->get(p.at("dataset"));
   const Query q = parse_query(req.query);
   const auto page = params::integer(req, "page", 0, 0, 1'000'000'000);
   const auto size = params::integer(req, "page_size", limits::kDefaultPageSize, 1, limits::kMaxPageSize);
-  return Response::json(200, trailscope::list_flights(*ds->trails, q, page, size).to_json());
+  const FlightSort sort =
+      parse_flight_sort(params::text(req, "sort", "t_start"), params::text(req, "order", "asc"));
+  return Response::json(200, trailscope::list_flights(*ds->trails, q, page, size, sort).to_json());
 }
 
 Response get_flight(App& app, const Request& req, const PathParams& p) {

@@ -24,9 +24,6 @@ Response get_job(App& app, const Request& req, const PathParams& p);
 Response cancel_job(App& app, const Request& req, const PathParams& p);
 
 Response density_tile(App& app, const Request& req, const PathParams& p);
-/// The colour span the density tiles of a zoom are shaded with (lo, hi, and the eq_hist distribution),
-/// for the dashboard's legend: GET /api/v1/datasets/{dataset}/density/scale.
-Response density_scale(App& app, const Request& req, const PathParams& p);
 /// The thresholded congestion map of simultaneous aircraft (trailscope/congestion/congestion_map.hpp).
 Response congestion_tile(App& app, const Request& req, const PathParams& p);
 
@@ -90,6 +87,14 @@ Response delete_session(App& app, const Request& req, const PathParams& p);
 Response list_tokens(App& app, const Request& req, const PathParams& p);
 Response create_token(App& app, const Request& req, const PathParams& p);
 Response revoke_token(App& app, const Request& req, const PathParams& p);
+/// The flight dashboard's picking, sorted flight list, exports and data-quality flags: the flights drawn
+/// nearest a point of the density map (trails/pick.hpp).
+Response pick(App& app, const Request& req, const PathParams& p);
+/// The window's flights as GeoJSON or CSV (trails/export.hpp), size-checked, then streamed.
+Response export_flights(App& app, const Request& req, const PathParams& p);
+/// The legend of the density tiles of one zoom: data values and colours of the shading applied
+/// (density/legend.hpp).
+Response density_legend(App& app, const Request& req, const PathParams& p);
 // Prechecks of the upload routes (Router::Route::precheck): each runs on the header, before the body is
 // read, the checks its handler runs first (parameters, name, room), and throws what the handler would.
 void create_dataset_check(App& app, const Request& req, const PathParams& p);

@@ -2,6 +2,7 @@
 // The server's own request/response values: what a route handler sees and returns. They carry no Beast
 // types, so handlers and their tests stay free of networking code.
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -61,6 +62,20 @@ struct Response {
   std::shared_ptr<const std::string> shared_body;
   /// A HEAD response: the headers of the GET, with its Content-Length, and no body on the wire.
   bool head_only = false;
+  /// When set, the body is not `body` but streamed with chunked transfer encoding (exports of a window's
+  /// flights): each call appends the next piece to its argument and returns false after the last piece.
+  /// It runs on the connection's I/O thread, between writes, so each call must do a bounded amount of
+  /// work (a few hundred kilobytes); the route checked the whole export's size before answering.
+  std::function<bool(std::string&)> stream;
+
+  /// The whole body, drawing a streamed one to its end (in-process tests and the CLI).
+  std::string collect() const {
+    if (!stream) return bytes();
+    std::string all;
+    while (stream(all)) {
+    }
+    return all;
+  }
 
   const std::string& bytes() const { return shared_body ? *shared_body : body; }
   static Response json(int status, const nlohmann::json& j) {

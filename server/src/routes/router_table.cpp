@@ -66,10 +66,7 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/jobs/{job}", bind(get_job));        // 200 404
   r.add("DELETE", "/api/v1/jobs/{job}", bind(cancel_job));  // 200 404
   r.add("GET", "/tiles/{dataset}/density/{z}/{x}/{y}.png", bind(density_tile))
-      .on(Lane::compute);  // 200 304 400 404
-  // The density tiles' colour span of one zoom, for legends that read values (routes/tiles.cpp).
-  r.add("GET", "/api/v1/datasets/{dataset}/density/scale", bind(density_scale))
-      .on(Lane::compute);                                     // 200 400 404
+      .on(Lane::compute);                                     // 200 304 400 404
   r.add("GET", "/api/v1/graphs", list_handler(app, graphs));  // 200
   r.add("POST", "/api/v1/graphs", bind(create_graph), upload(limits::kMaxGraphUploadBytes, "graph upload"))
       .checked_first(check(create_graph_check));                           // 201 400 413 415 422
@@ -159,6 +156,12 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/tokens", bind(list_tokens)).needs(Role::admin);              // 200
   r.add("POST", "/api/v1/tokens", bind(create_token)).needs(Role::admin);            // 201 400 409
   r.add("DELETE", "/api/v1/tokens/{token}", bind(revoke_token)).needs(Role::admin);  // 204 404
+  // The flight dashboard: picking on the density map, exports, data quality.
+  r.add("GET", "/api/v1/datasets/{dataset}/pick", bind(pick)).on(Lane::compute);  // 200 400 404
+  r.add("GET", "/api/v1/datasets/{dataset}/export", bind(export_flights))
+      .on(Lane::compute);  // 200 400 404 413
+  r.add("GET", "/api/v1/datasets/{dataset}/density/legend", bind(density_legend))
+      .on(Lane::compute);  // 200 400 404
   r.set_access(access_check(app.access));
   r.set_fallback(bind(static_file));
   return r;

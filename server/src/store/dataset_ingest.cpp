@@ -29,6 +29,7 @@ std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const Inge
   ingest::IngestOptions opts;
   if (req.format) opts.format = ingest::parse_format(*req.format, "format");
   opts.progress = progress;
+  opts.split_jumps = req.split_jumps;
   opts.cancel = cancel;
   ingest::IngestReport report;
   TrailSet trails = ingest::ingest_file(req.file.string(), opts, &report);

@@ -16,6 +16,9 @@ struct IngestRequest {
   std::string name;                   ///< dataset id (validated)
   std::optional<std::string> format;  ///< a format name; detected from content when absent
   std::string owner;                  ///< the owner name the dataset records ("" from the CLI)
+  /// Split flights at impossible position jumps (ingest::IngestOptions::split_jumps; unset: the format's
+  /// default, on for position reports and off for SO6).
+  std::optional<bool> split_jumps;
   /// Called with the assembled dataset before it is written; a throw (a disk budget's 507) stops the
   /// ingest with nothing written.
   std::function<void(const Dataset&)> before_write;

@@ -280,16 +280,40 @@ Error project_error(const Table& t, ProjectOptions o) {
   return Error(Error::Kind::internal, "", "no error");
 }
 
+// openTSNE's rule for small tables: the perplexity is capped at (N − 1) / 3 and the answer says so. The
+// capped run is the same as asking tsne() for that perplexity directly (tsne() itself still refuses a
+// perplexity its table cannot hold).
+TEST(ProjectionOptions, TsnePerplexityCappedForSmallTables) {
+  const Table t = test::gaussian_clusters(20, 4, 2, 5.0, 1);
+  EXPECT_DOUBLE_EQ(effective_perplexity(30, 20), 19.0 / 3.0);
+  EXPECT_DOUBLE_EQ(effective_perplexity(5, 20), 5.0);
+  ProjectOptions o;
+  o.backend = Backend::cpu;
+  o.method = Method::tsne;
+  o.perplexity = 30;
+  o.standardize = false;
+  const Embedding e = project(t, o);
+  EXPECT_DOUBLE_EQ(e.perplexity, 19.0 / 3.0);
+  TsneOptions to;
+  to.perplexity = 19.0 / 3.0;
+  const Embedding direct = tsne(t, to, Backend::cpu);
+  EXPECT_EQ(e.xy, direct.xy);
+  to.perplexity = 30;
+  EXPECT_THROW((void)tsne(t, to, Backend::cpu), Error);
+  // Other methods report none.
+  o.method = Method::pca;
+  EXPECT_TRUE(std::isnan(project(t, o).perplexity));
+}
+
 TEST(ProjectionOptions, BadOptionsGiveExactErrors) {
   const Table t = test::gaussian_clusters(60, 4, 2, 5.0, 1);
   ProjectOptions o;
   o.backend = Backend::cpu;
   o.method = Method::tsne;
   o.perplexity = 30;
-  Error e = project_error(t, o);
-  EXPECT_EQ(e.param(), "perplexity");
-  EXPECT_STREQ(e.what(),
-               "perplexity 30.000000 needs at least 91 rows (3·perplexity neighbours); the table has 60");
+  Error e = project_error(test::gaussian_clusters(3, 1, 2, 5.0, 1), o);
+  EXPECT_EQ(e.param(), "table");
+  EXPECT_STREQ(e.what(), "t-SNE needs at least 4 rows (perplexity ≥ 1 needs 3 neighbours); the table has 3");
   o.perplexity = 0.5;
   EXPECT_STREQ(project_error(t, o).what(), "perplexity must be in [1, 100], not 0.500000");
   o.perplexity = 5;

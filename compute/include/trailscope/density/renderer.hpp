@@ -16,10 +16,12 @@
 // is what keeps neighbouring tiles seamless. The span is computed on the request's backend.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "trailscope/density/aggregate.hpp"
+#include "trailscope/density/legend.hpp"
 #include "trailscope/density/png.hpp"
 #include "trailscope/density/shade.hpp"
 #include "trailscope/density/span.hpp"
@@ -35,16 +37,23 @@ struct TileRequest {
   int size = limits::kTileSizeSmall;  ///< 256 or 512 pixels
   DensityValue value = DensityValue::count;
   How how = How::eq_hist;
-  std::string cmap = "fire";                           ///< colormap.hpp names
-  int kernel_radius = 0;                               ///< KDE radius, pixels, 0..limits::kMaxKernelRadiusPx
-  bool alpha_ramp = false;                             ///< shade.hpp
+  std::string cmap = "fire";  ///< colormap.hpp names
+  int kernel_radius = 0;      ///< KDE radius, pixels, 0..limits::kMaxKernelRadiusPx
+  bool alpha_ramp = false;    ///< shade.hpp
+  /// Colormap position of the lowest non-empty value (shade.hpp, MINIMUM LEVEL), [0, 1). Unset:
+  /// kDefaultCountMinLevel for `count` (faint traffic stays visible on a dark basemap), 0 for `altitude`
+  /// and `speed`, whose colours encode a quantity that a floor would misstate.
+  std::optional<double> min_level;
   double max_gap_seconds = limits::kFlightGapSeconds;  ///< > 0; +infinity draws every segment
   Backend backend = default_backend();
 };
 
-/// Throws invalid_argument naming the first bad field: `z`, `x`, `y`, `size`, `cmap`, `kernel_radius`
-/// or `max_gap`.
+/// Throws invalid_argument naming the first bad field: `z`, `x`, `y`, `size`, `cmap`, `kernel_radius`,
+/// `max_gap` or `min_level`.
 void validate(const TileRequest& request);
+
+/// The minimum level a tile is shaded with: request.min_level, or its default for the value.
+double effective_min_level(const TileRequest& request);
 
 struct TileResult {
   std::string png;              ///< PNG bytes (a fully transparent image when `empty`)
@@ -94,6 +103,12 @@ class DensityRenderer {
   std::shared_ptr<const SpanStats> span_for(const TrailSet& trails, const std::string& dataset_key,
                                             const Query& query, const TileRequest& request,
                                             bool* cached = nullptr);
+
+  /// The legend of the tiles `request` describes (legend.hpp): their level's cached span, shaded as
+  /// render_tile shades (how, cmap, effective_min_level). request.tile's x and y do not matter. Throws as
+  /// span_for() and legend().
+  Legend legend(const TrailSet& trails, const std::string& dataset_key, const Query& query,
+                const TileRequest& request, int stops);
 
   /// Drops every cached span of a dataset (call when it is deleted or replaced).
   void forget_dataset(std::string_view dataset_key);

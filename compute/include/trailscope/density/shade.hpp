@@ -9,6 +9,13 @@
 //    interpolated between the span's distinct values and rescaled so that lo maps to 0 and hi to 1.
 // Values beyond the span clamp to its ends. Output alpha is 255, or with `alpha_ramp` rises linearly
 // from `min_alpha` at 0 to 255 at 1 (Datashader's min_alpha, default 40).
+//
+// MINIMUM LEVEL. The normalised value t in [0, 1] picks the colormap entry at min_level + t·(1 − min_level)
+// instead of t: the lowest non-empty value gets the colour at `min_level`, not the map's first entry.
+// Datashader's min_alpha keeps faint data visible on a light background by never letting its alpha reach
+// 0; maps such as `fire` start at black instead, so on a dark basemap a single trail (the lowest
+// eq_hist bin) is drawn black and disappears. A lightness floor is the same idea for dark backgrounds.
+// Empty pixels stay transparent, so "no data" and "little data" still differ.
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -32,11 +39,16 @@ struct ShadeOptions {
   How how = How::eq_hist;
   std::string cmap = "fire";  ///< colormap name (colormap.hpp)
   bool alpha_ramp = false;
-  int min_alpha = 40;  ///< 0..255, used with alpha_ramp
+  int min_alpha = 40;    ///< 0..255, used with alpha_ramp
+  double min_level = 0;  ///< [0, 1): colormap position of the lowest value (see MINIMUM LEVEL)
 };
 
-/// Colours `raster` with `span`. Throws invalid_argument naming `cmap` (unknown colormap) or `min_alpha`
-/// (outside 0..255).
+/// The density tiles' minimum level for counts (TileRequest::min_level): a quarter into the map, where
+/// `fire` is a clear red (#8f0f00-ish) and `viridis`/`magma`/`inferno` have left their darkest blues.
+inline constexpr double kDefaultCountMinLevel = 0.25;
+
+/// Colours `raster` with `span`. Throws invalid_argument naming `cmap` (unknown colormap), `min_alpha`
+/// (outside 0..255) or `min_level` (outside [0, 1)).
 Image shade(const Raster& raster, const SpanStats& span, const ShadeOptions& options);
 
 }  // namespace trailscope::density

@@ -45,6 +45,7 @@
 #include "trailscope/core/progress.hpp"
 #include "trailscope/ingest/format.hpp"
 #include "trailscope/ingest/reject.hpp"
+#include "trailscope/trails/quality.hpp"
 #include "trailscope/trails/trail_set.hpp"
 
 namespace trailscope::ingest {
@@ -63,9 +64,16 @@ struct IngestReport {
   std::size_t points = 0;       ///< points in the resulting TrailSet
   std::vector<Reject> rejects;  ///< first limits::kMaxReportedRejects rejected rows, in file order
   double seconds = 0;           ///< wall time of the whole ingest
+  /// Implausible values in the resulting TrailSet (trails/quality.hpp): speeds, altitudes and the jumps
+  /// left when IngestOptions::split_jumps is off.
+  QualityReport quality;
+  /// Flights split at an impossible position jump (IngestOptions::split_jumps), with the largest jumps:
+  /// the flight that starts after each, its time and the implied speed (m/s).
+  QualityCount jump_splits;
 
   /// {"format", "rows", "accepted", "rejected", "duplicates", "flights", "points",
-  ///  "rejects": [{"line", "reason"}...], "seconds"}.
+  ///  "rejects": [{"line", "reason"}...], "seconds", "quality": {QualityReport::to_json(), "jump_splits":
+  ///  {"count", "examples"}}}.
   nlohmann::json to_json() const;
 };
 
@@ -75,6 +83,11 @@ struct IngestOptions {
   /// Consecutive samples of one aircraft further apart than this (seconds, > 0) start a new flight.
   /// Not used for SO6 (see above).
   double gap_seconds = limits::kFlightGapSeconds;
+  /// Split a flight where consecutive samples imply a speed above kMaxPlausibleSpeedMs (a position jump,
+  /// trails/quality.hpp). Unset: on for the position reports (opensky_csv, traffic_json, readsb_trace),
+  /// where a jump is a bad position or two aircraft under one address; off for SO6, whose flight_id is
+  /// authoritative and whose jumps are reported (IngestReport::quality) but kept.
+  std::optional<bool> split_jumps;
   /// Called on the caller's thread with (fraction of the compressed file consumed, "parse") about every
   /// 65,536 rows and (1, "parse") when parsing ends, then (0, "assemble") and (1, "assemble") around
   /// building the TrailSet. May be empty.

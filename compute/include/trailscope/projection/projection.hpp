@@ -12,6 +12,7 @@
 // Scheme and LAMP positions that approximate the input distances; t-SNE coordinates have no unit.
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -34,9 +35,19 @@ struct Embedding {
   std::string path;        ///< "opencl" or "cpu": which path of the method ran
   std::string variant;     ///< e.g. "exact", "landmark", "barnes-hut", "fft"
   std::vector<std::pair<std::string, double>> timings_ms;  ///< phase name → milliseconds
+  /// project() with t-SNE: the perplexity used (effective_perplexity of the requested one); NaN otherwise.
+  double perplexity = std::numeric_limits<double>::quiet_NaN();
   double x(std::size_t i) const { return xy[2 * i]; }
   double y(std::size_t i) const { return xy[2 * i + 1]; }
 };
+
+/// The perplexity t-SNE runs with on `rows` rows: min(perplexity, (rows − 1) / 3), openTSNE's rule
+/// (TSNE.prepare_initial: "perplexity too high for the number of samples", lowered with a warning) so that
+/// the ⌊3·perplexity⌋ nearest neighbours exist; scikit-learn instead refuses perplexity ≥ n_samples.
+/// A 20-run sweep gets 19/3 ≈ 6.33 for the default 30. Throws invalid_argument("table") below 4 rows,
+/// where the cap would fall under 1 ("t-SNE needs at least 4 rows (perplexity ≥ 1 needs 3 neighbours);
+/// the table has N").
+double effective_perplexity(double perplexity, std::size_t rows);
 
 /// Options of project(); the per-method ones are ignored by the other methods.
 struct ProjectOptions {
@@ -44,8 +55,8 @@ struct ProjectOptions {
   bool standardize = true;  ///< z-score the columns first (projection::standardize)
   Backend backend = Backend::auto_;
   std::uint64_t seed = 42;  ///< every random choice (init, landmarks, control points, sampling)
-  /// t-SNE: perplexity in [1, limits::kMaxPerplexity], and < (N − 1) / 3 so that the 3·perplexity
-  /// nearest neighbours exist.
+  /// t-SNE: perplexity in [1, limits::kMaxPerplexity]. project() runs with effective_perplexity() (capped
+  /// at (N − 1) / 3 for small tables, as openTSNE does) and reports it in Embedding::perplexity.
   double perplexity = 30.0;
   /// Iterations of the main phase: t-SNE (after the exaggeration phase; default 500, see
   /// TsneOptions::iterations), Force Scheme (default 100). 0 = the method's default. At most

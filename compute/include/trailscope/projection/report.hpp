@@ -24,7 +24,8 @@ struct ProjectionReport {
 /// and Error(invalid_argument, "k") unless 1 ≤ k ≤ limits::kMaxQualityK.
 ProjectionReport project_with_quality(const Table& table, const ProjectOptions& options, int k);
 
-/// {method, rows, columns (the column names), path, variant, timings_ms {phase: ms}, quality {k,
+/// {method, rows, columns (the column names), path, variant, timings_ms {phase: ms}, perplexity (t-SNE
+/// only: the perplexity used, effective_perplexity of the requested one), quality {k,
 /// trustworthiness, continuity, neighborhood_preservation, stress, shepard, sampled, queries},
 /// coordinates [[x, y], ...]}.
 nlohmann::json to_json(const ProjectionReport& r);

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trailscope/trails/quality.hpp"
 #include "trailscope/trails/query.hpp"
 #include "trailscope/trails/trail_set.hpp"
 
@@ -47,33 +48,96 @@ struct Summary {
     std::uint64_t flights = 0, points = 0;
   };
   std::vector<CallsignCount> top_callsigns;  ///< by matching points, then callsign
+  /// Implausible values among the matching points (check_quality, trails/quality.hpp).
+  QualityReport quality;
 
   nlohmann::json to_json() const;
+  /// One table of the summary as CSV (header line first, "\n" line ends, numbers as the shortest
+  /// round-trip text, unknown values empty), the same numbers as to_json():
+  ///  - "totals": key,value — flights, points, t_min, t_max, speed_count, speed_min_ms, speed_max_ms,
+  ///    speed_mean_ms, speed_p50_ms, speed_p95_ms, implausible_speeds, implausible_altitudes,
+  ///    position_jumps (the quality counts);
+  ///  - "time_histogram": t0,t1,points — one row per bin [t0, t1) (Unix s);
+  ///  - "altitude_histogram": lower,upper,unit,points — one row per bin [lower, upper) in `unit`;
+  ///  - "top_callsigns": callsign,flights,points;
+  ///  - "quality": kind,flight_id,callsign,t,value — the examples of each kind (speed m/s, altitude m,
+  ///    jump m/s), largest first.
+  /// Throws invalid_argument("table") for another name.
+  std::string to_csv(const std::string& table) const;
+  /// The table names to_csv() takes, in its order.
+  static const std::vector<std::string>& csv_tables();
 };
 
 /// Summarises the points of `set` that match `q`. The time histogram spans [q.t0, q.t1) when given,
 /// else the data's time extent. Throws invalid_argument for options out of range ("bins", "top").
 Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts = {});
 
-/// One row of the flight list: a flight with the part of it inside the window.
+/// One row of the flight list: a flight with the part of it inside the window ("in window": the points
+/// that pass the query's point filter — time window, altitude band, bbox, on_ground) and the whole
+/// flight's own extent, so a list can show both and say which is which.
 struct FlightRow {
   std::uint32_t id = 0;  ///< index of the flight in TrailSet::flights(); stable for a stored dataset
   std::string icao24, callsign;
+  // In window: over the matching points only.
   double t_start = 0, t_end = 0;  ///< first and last matching point (Unix s)
+  double duration_s = 0;          ///< t_end - t_start (s)
   std::uint64_t points = 0;       ///< matching points
   double alt_max_m = 0;           ///< highest matching altitude (m), NaN when unknown
+  // Whole flight: every point of the flight, whatever the window and filters.
+  double flight_t_start = 0, flight_t_end = 0;  ///< first and last point (Unix s)
+  double flight_duration_s = 0;                 ///< flight_t_end - flight_t_start (s)
+  std::uint64_t flight_points = 0;              ///< all points
 };
+
+/// The columns a flight list sorts by, named as in FlightRow's JSON.
+enum class FlightSortKey {
+  id,
+  icao24,
+  callsign,
+  t_start,
+  t_end,
+  duration_s,
+  points,
+  alt_max_m,
+  flight_t_start,
+  flight_t_end,
+  flight_duration_s,
+  flight_points
+};
+
+/// A flight list's order: one column, ascending or descending; rows that tie on it follow in ascending
+/// flight id in both directions (so pages never overlap or skip a row); an unknown alt_max_m sorts after
+/// every known one in both directions. Text compares byte-wise (callsigns and icao24 are ASCII).
+struct FlightSort {
+  FlightSortKey key = FlightSortKey::t_start;
+  bool descending = false;
+};
+
+/// Parses a column name ("t_start", "callsign", ... every FlightSortKey) and an order ("asc" | "desc").
+/// Throws invalid_argument naming `sort_param` ("sort must be one of id, icao24, ..., got 'x'") or
+/// `order_param` ("order must be 'asc' or 'desc', got 'x'").
+FlightSort parse_flight_sort(const std::string& sort, const std::string& order,
+                             const std::string& sort_param = "sort",
+                             const std::string& order_param = "order");
+/// The column names of FlightSortKey, in its order.
+const std::vector<std::string>& flight_sort_keys();
 
 struct FlightPage {
   std::uint64_t total = 0;  ///< matching flights over all pages
   std::size_t page = 0, page_size = 0;
-  std::vector<FlightRow> flights;  ///< ordered by t_start, then id
+  FlightSort sort;
+  std::vector<FlightRow> flights;  ///< ordered by `sort`, then id
+  /// {"total", "page", "page_size", "sort", "order", "flights": [{"id", "icao24", "callsign", "t_start",
+  ///  "t_end", "duration_s", "points", "alt_max_m", "flight_t_start", "flight_t_end", "flight_duration_s",
+  ///  "flight_points"}]}.
   nlohmann::json to_json() const;
 };
 
-/// Lists matching flights, `page_size` (1..limits::kMaxPageSize) per page from `page` 0. A page past the
-/// end is empty. Throws invalid_argument("page_size") when out of range.
-FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, std::size_t page_size);
+/// Lists matching flights (at least one point passing the query), `page_size` (1..limits::kMaxPageSize)
+/// per page from `page` 0, in the order `sort` (default: in-window start, then id). A page past the end
+/// is empty. Throws invalid_argument("page_size") when out of range.
+FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, std::size_t page_size,
+                        const FlightSort& sort = {});
 
 /// One flight as a GeoJSON Feature (LineString of [lon, lat, alt_m]) with per-point `times` (Unix s),
 /// `altitudes_m` and `speeds_ms` (null where unknown). Only points matching `q` are kept when

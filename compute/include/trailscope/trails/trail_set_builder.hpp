@@ -40,12 +40,24 @@ class TrailSetBuilder {
     std::size_t duplicates =
         0;  ///< samples dropped because an identical-time sample of the same aircraft came first
     std::size_t splits = 0;  ///< extra flights created by gaps > kFlightGapSeconds
+    /// Extra flights created by position jumps (see build()), each with the sample that starts the new
+    /// flight: its aircraft, time and the speed the jump implies (m/s).
+    std::size_t jump_splits = 0;
+    struct Jump {
+      std::string icao24, callsign;
+      double t = 0, speed_ms = 0;
+    };
+    std::vector<Jump> jumps;
   };
 
   /// Builds the TrailSet; flights are ordered by start time (then icao24, callsign), so that flights
   /// near in time are near in memory. Leaves the builder empty. `gap_seconds` overrides the split gap;
   /// <= 0 means limits::kFlightGapSeconds, +infinity never splits (SO6, whose flights carry their own ids).
-  TrailSet build(Stats* stats = nullptr, double gap_seconds = -1.0);
+  /// `jump_speed_ms` (> 0; +infinity never splits) also splits where consecutive samples imply a speed
+  /// above it (implied_speed_ms, trails/quality.hpp): a position no aircraft could have reached from the
+  /// previous one starts a new flight instead of drawing a straight line across the map.
+  TrailSet build(Stats* stats = nullptr, double gap_seconds = -1.0,
+                 double jump_speed_ms = std::numeric_limits<double>::infinity());
 
  private:
   struct Key {

@@ -1,0 +1,67 @@
+#pragma once
+// Data quality of flight trails: samples and steps that no aircraft in the data can have flown, counted
+// with examples, for the ingest report and the window summary. The limits are physical, not request
+// limits, and generous enough that a real civil flight never trips them:
+//  - ground speed above kMaxPlausibleSpeedMs (800 kt): the fastest subsonic airliners in the strongest
+//    jet streams reach about 720 kt over the ground;
+//  - altitude above kMaxPlausibleAltitudeM (FL600, 60,000 ft): above every civil service ceiling (the
+//    highest, business jets, certify to FL510);
+//  - a position jump: consecutive samples of one flight whose great-circle distance over their time
+//    difference (taken as at least kMinJumpSeconds, the coarsest clock of the formats) exceeds
+//    kMaxPlausibleSpeedMs — a position no aircraft could have reached since the previous one.
+// Distances are on the sphere of radius kEarthMeanRadiusM (haversine; the mean radius of WGS84, IUGG),
+// whose error against the ellipsoid (< 0.5 %) is far below the margin of the speed limit.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trailscope/trails/query.hpp"
+#include "trailscope/trails/trail_set.hpp"
+
+namespace trailscope {
+
+inline constexpr double kKnot = 1852.0 / 3600.0;                  ///< m/s per knot
+inline constexpr double kMaxPlausibleSpeedMs = 800.0 * kKnot;     ///< 800 kt ≈ 411.6 m/s
+inline constexpr double kMaxPlausibleAltitudeM = 60000 * 0.3048;  ///< FL600 = 18,288 m
+inline constexpr double kMinJumpSeconds = 1.0;                    ///< time step floor of a jump's speed
+inline constexpr double kEarthMeanRadiusM = 6371008.8;            ///< IUGG mean radius of WGS84
+/// Examples listed per kind of issue (the largest values; all are counted).
+inline constexpr std::size_t kQualityExamples = 10;
+
+/// Great-circle distance (metres) between two points (degrees) on the sphere of kEarthMeanRadiusM.
+double great_circle_m(double lat1, double lon1, double lat2, double lon2);
+
+/// The speed (m/s) a step from sample a to sample b implies: great_circle_m / max(|t_b − t_a|,
+/// kMinJumpSeconds).
+double implied_speed_ms(double t_a, double lat_a, double lon_a, double t_b, double lat_b, double lon_b);
+
+/// One implausible value: where, when and how much.
+struct QualityExample {
+  std::uint32_t flight_id = 0;  ///< id in the TrailSet (the flight list's id)
+  std::string callsign;
+  double t = 0;      ///< Unix seconds of the sample (of a jump: the sample after it)
+  double value = 0;  ///< m/s for speeds and jumps, metres for altitudes
+};
+
+struct QualityCount {
+  std::uint64_t count = 0;
+  std::vector<QualityExample> examples;  ///< up to kQualityExamples, largest value first (ties: id, t)
+};
+
+struct QualityReport {
+  QualityCount speed;     ///< samples with a ground speed above kMaxPlausibleSpeedMs
+  QualityCount altitude;  ///< samples with an altitude above kMaxPlausibleAltitudeM
+  QualityCount jumps;     ///< steps implying a speed above kMaxPlausibleSpeedMs
+  /// {"limits": {"speed_ms", "speed_kt", "altitude_m", "altitude_fl"}, "speed": {"count", "examples":
+  /// [{"flight_id", "callsign", "t", "value", "value_kt"}]}, "altitude": {... "value", "value_fl"},
+  /// "jumps": {... "value", "value_kt"}}.
+  nlohmann::json to_json() const;
+};
+
+/// The implausible values among the points of `set` that pass `q` (PointFilter); a jump counts when
+/// both of its samples pass. One parallel pass over the flights the query may match.
+QualityReport check_quality(const TrailSet& set, const Query& q);
+
+}  // namespace trailscope

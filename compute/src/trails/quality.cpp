@@ -1,0 +1,122 @@
+#include "trailscope/trails/quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include "trailscope/trails/point_filter.hpp"
+
+namespace trailscope {
+
+double great_circle_m(double lat1, double lon1, double lat2, double lon2) {
+  constexpr double kRad = std::numbers::pi / 180.0;
+  const double dlat = (lat2 - lat1) * kRad, dlon = (lon2 - lon1) * kRad;
+  const double s = std::sin(dlat / 2), c = std::sin(dlon / 2);
+  const double h = s * s + std::cos(lat1 * kRad) * std::cos(lat2 * kRad) * c * c;
+  return 2 * kEarthMeanRadiusM * std::asin(std::min(1.0, std::sqrt(h)));
+}
+
+double implied_speed_ms(double t_a, double lat_a, double lon_a, double t_b, double lat_b, double lon_b) {
+  return great_circle_m(lat_a, lon_a, lat_b, lon_b) / std::max(std::abs(t_b - t_a), kMinJumpSeconds);
+}
+
+namespace {
+// Counts and every candidate example of one range of flights; examples are cut to the largest at the end.
+struct Acc {
+  std::uint64_t n[3] = {0, 0, 0};
+  std::vector<QualityExample> ex[3];
+  void add(int kind, std::uint32_t id, double t, double v) {
+    ++n[kind];
+    ex[kind].push_back({id, {}, t, v});
+  }
+  // Keeps the kQualityExamples largest (ties: flight id, time), so the merge stays small.
+  void trim() {
+    for (auto& e : ex) {
+      const auto by = [](const QualityExample& a, const QualityExample& b) {
+        return a.value != b.value ? a.value > b.value
+                                  : (a.flight_id != b.flight_id ? a.flight_id < b.flight_id : a.t < b.t);
+      };
+      if (e.size() > kQualityExamples) {
+        std::partial_sort(e.begin(), e.begin() + kQualityExamples, e.end(), by);
+        e.resize(kQualityExamples);
+      } else {
+        std::sort(e.begin(), e.end(), by);
+      }
+    }
+  }
+};
+
+nlohmann::json count_json(const QualityCount& c, const char* extra, double scale) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& e : c.examples)
+    list.push_back({{"flight_id", e.flight_id},
+                    {"callsign", e.callsign},
+                    {"t", e.t},
+                    {"value", e.value},
+                    {extra, e.value / scale}});
+  return {{"count", c.count}, {"examples", std::move(list)}};
+}
+}  // namespace
+
+QualityReport check_quality(const TrailSet& set, const Query& q) {
+  const auto& p = set.points();
+  const auto& flights = set.flights();
+  const PointFilter filter(q);
+  Acc total = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, flights.size(), 64), Acc{},
+      [&](const tbb::blocked_range<std::size_t>& r, Acc acc) {
+        for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
+          const Flight& f = flights[fi];
+          if (!q.may_match(f)) continue;
+          const auto id = static_cast<std::uint32_t>(fi);
+          bool prev = false;
+          for (std::size_t i = f.begin; i < f.end; ++i) {
+            const bool pass = filter(p, i);
+            if (pass) {
+              if (p.speed[i] > kMaxPlausibleSpeedMs) acc.add(0, id, p.t[i], p.speed[i]);
+              if (p.alt[i] > kMaxPlausibleAltitudeM) acc.add(1, id, p.t[i], p.alt[i]);
+              if (prev) {
+                const double v =
+                    implied_speed_ms(p.t[i - 1], p.lat[i - 1], p.lon[i - 1], p.t[i], p.lat[i], p.lon[i]);
+                if (v > kMaxPlausibleSpeedMs) acc.add(2, id, p.t[i], v);
+              }
+            }
+            prev = pass;
+          }
+        }
+        acc.trim();
+        return acc;
+      },
+      [](Acc a, const Acc& b) {
+        for (int k = 0; k < 3; ++k) {
+          a.n[k] += b.n[k];
+          a.ex[k].insert(a.ex[k].end(), b.ex[k].begin(), b.ex[k].end());
+        }
+        a.trim();
+        return a;
+      });
+  QualityReport out;
+  QualityCount* counts[3] = {&out.speed, &out.altitude, &out.jumps};
+  for (int k = 0; k < 3; ++k) {
+    counts[k]->count = total.n[k];
+    counts[k]->examples = std::move(total.ex[k]);
+    for (auto& e : counts[k]->examples) e.callsign = flights[e.flight_id].callsign;
+  }
+  return out;
+}
+
+nlohmann::json QualityReport::to_json() const {
+  return {{"limits",
+           {{"speed_ms", kMaxPlausibleSpeedMs},
+            {"speed_kt", kMaxPlausibleSpeedMs / kKnot},
+            {"altitude_m", kMaxPlausibleAltitudeM},
+            {"altitude_fl", kMaxPlausibleAltitudeM / 0.3048 / 100}}},
+          {"speed", count_json(speed, "value_kt", kKnot)},
+          {"altitude", count_json(altitude, "value_fl", 0.3048 * 100)},
+          {"jumps", count_json(jumps, "value_kt", kKnot)}};
+}
+
+}  // namespace trailscope
