@@ -363,7 +363,7 @@ async function legendTicks() {
   });
 }
 
-/** The legend's span as the API gives it for the map's current query and zoom. */
+/** The legend as the API gives it for the map's current query and zoom (21 stops, as the dashboard asks). */
 async function apiSpan(how) {
   const m = await page.$(sel('map'));
   const q = new URLSearchParams((await m.getAttribute('data-density-template')).split('?')[1]);
@@ -378,8 +378,10 @@ async function apiSpan(how) {
   p.set('z', String(z));
   p.set('value', q.get('value'));
   p.set('how', how);
-  const res = await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/density/scale?${p}`);
-  assertEqual(res.status, 200, 'density/scale status');
+  p.set('cmap', q.get('cmap'));
+  p.set('stops', '21');
+  const res = await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/density/legend?${p}`);
+  assertEqual(res.status, 200, 'density/legend status');
   return res.json();
 }
 
@@ -407,22 +409,21 @@ await test('the density legend reads values: real width, ticks of the server spa
   await page.waitForFunction(() => document.querySelector('[data-testid="density-legend"]')?.dataset.how === 'eq_hist' && document.querySelector('[data-testid="density-legend"]')?.dataset.state === 'ready');
   const eq = await apiSpan('eq_hist');
   const ticks = (await legendTicks()).ticks;
-  assertEqual(ticks.length, 5, 'eq_hist: five quantile ticks');
-  // Quantiles by brute force: the smallest tabulated value whose share of shaded pixels reaches p.
-  const c0 = eq.cdf[0];
-  const quantile = (p) => {
-    const c = c0 + p * (1 - c0);
-    const k = eq.cdf.findIndex((x) => x >= c - 1e-12);
-    if (k <= 0) return eq.cdf_values[0];
-    const f = (c - eq.cdf[k - 1]) / (eq.cdf[k] - eq.cdf[k - 1]);
-    return eq.cdf_values[k - 1] + f * (eq.cdf_values[k] - eq.cdf_values[k - 1]);
-  };
+  assertEqual(ticks.length, 5, 'eq_hist: five quartile ticks');
+  // The quartile ticks carry the API's values at t = 0, ¼, ½, ¾, 1, in order.
   const fmt = (v) => (v >= 10_000 ? null : v >= 10 || Number.isInteger(v) ? Math.round(v).toLocaleString('en-US') : v.toFixed(1));
-  [0, 0.25, 0.5, 0.75, 1].forEach((p, i) => {
-    const want = fmt(quantile(p));
-    if (want !== null) assertEqual(ticks[i].label, want, `eq_hist tick ${p * 100} %`);
+  [0, 5, 10, 15, 20].forEach((k, i) => {
+    const want = fmt(eq.stops[k].value);
+    if (want !== null) assertEqual(ticks[i].label, want, `eq_hist tick ${k * 5} %`);
+    assert(Math.abs(ticks[i].x - (k / 20) * lin.width) < 2.5, `quartile tick ${i} at ${ticks[i].x} px`);
   });
+  assert(eq.stops.every((x, k) => k === 0 || x.value >= eq.stops[k - 1].value), 'quantiles never decrease');
+  // The bar is painted with the tiles' colours: its first stop is the colormap at the minimum level.
+  const grad = await page.$$eval('[data-testid="density-legend"] stop', (st) => st.map((x) => x.getAttribute('stop-color')));
+  assertEqual(grad.join(','), eq.stops.map((x) => x.color).join(','), 'the bar has the API colours');
+  assert(eq.min_level > 0 && eq.stops[0].color !== '#000000', `faint traffic is not black (first colour ${eq.stops[0].color}, min level ${eq.min_level})`);
   assert((await page.textContent(sel('density-legend'))).includes('quantiles'), 'the eq_hist legend says its ticks are quantiles');
+  state.legend = eq;
   await page.locator(sel('density-legend')).screenshot({ path: path.join(ARTIFACTS, 'density-legend.png') });
   console.log(`        linear ${lin.ticks.map((t) => t.label).join(' | ')}; eq_hist ${ticks.map((t) => t.label).join(' | ')}`);
 });
@@ -453,9 +454,11 @@ await test('export PNG: the map view with its legend, at the canvas size', async
   }, bytes.toString('base64'));
   assertEqual(px.w, px.mapW, 'PNG width is the map canvas width');
   assertEqual(px.h, px.mapH, 'PNG height is the map canvas height');
-  // fire runs from black to white: the legend's bar ends have those colours.
-  assert(px.left[0] < 60 && px.left[1] < 20 && px.left[2] < 20, `the bar starts dark (${px.left})`);
-  assert(px.right.slice(0, 3).every((v) => v > 200), `the bar ends light (${px.right})`);
+  // The legend's bar ends have the API legend's first and last colours (fire from its minimum level to white).
+  const hex = (c) => [1, 3, 5].map((i) => parseInt(c.slice(i, i + 2), 16));
+  const near = (a, b, tol) => a.every((v, i) => Math.abs(v - b[i]) <= tol);
+  assert(near(px.left.slice(0, 3), hex(state.legend.stops[0].color), 40), `the bar starts with ${state.legend.stops[0].color} (${px.left})`);
+  assert(near(px.right.slice(0, 3), hex(state.legend.stops[20].color), 40), `the bar ends with ${state.legend.stops[20].color} (${px.right})`);
   assert(px.lit > 200, `the view is drawn (${px.lit} lit samples)`);
 });
 

@@ -1,7 +1,7 @@
 // Typed client for the TrailScope REST API (same origin as the page: requests carry the session cookie).
 import { notifyUnauthorized } from './session';
 
-import type { DensitySpan } from '../lib/legend';
+import type { DensityLegendAnswer } from '../lib/legend';
 import type {
   ApiErrorBody,
   Bundle,
@@ -99,13 +99,15 @@ export const api = {
     return request<Summary>(withQuery(`${ds(id)}/summary`, q), { signal });
   },
 
-  /** The colour span of the density tiles at zoom z (the legend's values). */
-  densityScale(id: string, query: URLSearchParams, z: number, r: { value: string; how: string }, signal?: AbortSignal) {
+  /** The legend of the density tiles at zoom z: values and colours of the shading applied. */
+  densityLegend(id: string, query: URLSearchParams, z: number, r: { value: string; how: string; cmap: string }, stops: number, signal?: AbortSignal) {
     const q = new URLSearchParams(query);
     q.set('z', String(z));
     q.set('value', r.value);
     q.set('how', r.how);
-    return request<DensitySpan>(withQuery(`${ds(id)}/density/scale`, q), { signal });
+    q.set('cmap', r.cmap);
+    q.set('stops', String(stops));
+    return request<DensityLegendAnswer>(withQuery(`${ds(id)}/density/legend`, q), { signal });
   },
   flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal, sort?: { sort: FlightSort; order: SortOrder }) {
     const q = new URLSearchParams(query);

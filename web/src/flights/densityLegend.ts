@@ -1,11 +1,11 @@
 // The density map's legend, on the map: the colour map as a bar of real width with ticks in the data's
-// units, read from the span the server shades the current zoom's tiles with (GET .../density/scale), so it
-// follows the query, the value, the shading and the zoom (eq_hist: quantiles of the shaded pixels).
+// units, read from the legend of the current zoom's tiles (GET .../density/legend: the span they are shaded
+// with and the colours they use, the minimum level included), so it follows the query, the value, the
+// shading and the zoom (eq_hist: quartiles of the shaded pixels).
 
 import { api, isAbort } from '../api/client';
 import type { RenderOptions } from '../api/query';
-import { COLORMAP_STOPS } from '../lib/colors';
-import { densityTicks, densityUnit, renderLegend, type DensitySpan, type LegendSpec } from '../lib/legend';
+import { LEGEND_STOPS, densityTicks, densityUnit, renderLegend, type DensityLegendAnswer, type LegendSpec } from '../lib/legend';
 import { h } from '../lib/dom';
 
 /** The legend bar's width in CSS pixels. */
@@ -58,7 +58,7 @@ export class DensityLegend {
     this.ctrl = ctrl;
     this.el.dataset.state = 'loading';
     api
-      .densityScale(dataset, query, z, render, ctrl.signal)
+      .densityLegend(dataset, query, z, render, LEGEND_STOPS, ctrl.signal)
       .then((span) => this.show(span, render))
       .catch((e: unknown) => {
         if (isAbort(e)) return;
@@ -67,7 +67,7 @@ export class DensityLegend {
       });
   }
 
-  private show(span: DensitySpan, render: RenderOptions) {
+  private show(span: DensityLegendAnswer, render: RenderOptions) {
     this.el.hidden = false;
     this.el.dataset.state = 'ready';
     this.el.dataset.z = String(span.z);
@@ -75,6 +75,7 @@ export class DensityLegend {
     this.el.dataset.hi = String(span.hi);
     this.el.dataset.how = render.how;
     this.el.dataset.value = render.value;
+    this.el.dataset.minLevel = String(span.min_level);
     if (span.empty) {
       this.el.replaceChildren(h('div', { class: 'value-legend-title' }, 'No traffic under these filters'));
       this.el.dataset.ticks = '';
@@ -83,7 +84,8 @@ export class DensityLegend {
     }
     this.spec = {
       title: `Density: ${densityUnit(render.value)} (z${span.z})`,
-      stops: COLORMAP_STOPS[render.cmap],
+      // The tiles' own colours (with the minimum level that keeps faint traffic off black).
+      stops: span.stops.map((x) => x.color),
       ticks: densityTicks(span, render.how),
       width: DENSITY_LEGEND_WIDTH,
       testid: 'density-legend',

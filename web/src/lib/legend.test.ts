@@ -1,17 +1,18 @@
 import { describe, expect, it } from 'vitest';
-import { cubuRainbow, densityTicks, dropCrowded, eqHistQuantile, kmPerMercatorDegree, linearTicks, normalizeSpan, type DensitySpan } from './legend';
+import { cubuRainbow, densityTicks, dropCrowded, kmPerMercatorDegree, linearTicks, normalizeSpan, type DensityLegendAnswer } from './legend';
 
-/** The span of samples [1, 1, 1, 2, 3, 10] (as the server builds it: distinct values, fraction <= each). */
-const SPAN: DensitySpan = {
+/** A legend answer: span 1…10, stops at k/20 whose values are the quantiles the server computed. */
+const stops = Array.from({ length: 21 }, (_, k) => ({ t: k / 20, value: 1 + (9 * (k / 20)) ** 2 / 9, color: '#000000' }));
+const SPAN: DensityLegendAnswer = {
   empty: false,
   lo: 1,
   hi: 10,
-  samples: 6,
-  cdf_values: [1, 2, 3, 10],
-  cdf: [3 / 6, 4 / 6, 5 / 6, 1],
   value: 'count',
   how: 'eq_hist',
   z: 5,
+  unit: 'segments per pixel',
+  min_level: 0.25,
+  stops,
 };
 
 describe('normalizeSpan (the server shade.hpp formulas)', () => {
@@ -22,30 +23,13 @@ describe('normalizeSpan (the server shade.hpp formulas)', () => {
     // log1p: (ln 4 − ln 2) / (ln 11 − ln 2)
     expect(normalizeSpan(SPAN, 3, 'log')).toBeCloseTo((Math.log(4) - Math.log(2)) / (Math.log(11) - Math.log(2)), 12);
   });
-  it('eq_hist: the fraction of samples <= v, rescaled so lo is 0', () => {
-    // v = 2: cdf 4/6; (4/6 − 3/6) / (1 − 3/6) = 1/3
-    expect(normalizeSpan(SPAN, 2, 'eq_hist')).toBeCloseTo(1 / 3, 12);
-    // v = 6.5: halfway between 3 (5/6) and 10 (1) → 11/12; (11/12 − 1/2) / (1/2) = 5/6
-    expect(normalizeSpan(SPAN, 6.5, 'eq_hist')).toBeCloseTo(5 / 6, 12);
-  });
-});
-
-describe('eqHistQuantile', () => {
-  it('inverts normalizeSpan along the bar', () => {
-    expect(eqHistQuantile(SPAN, 0)).toBe(1);
-    expect(eqHistQuantile(SPAN, 1)).toBe(10);
-    expect(eqHistQuantile(SPAN, 0.5)).toBeCloseTo(2.5, 12); // c = 0.75, between 2 (4/6) and 3 (5/6)
-    for (const p of [0.1, 0.3, 0.5, 0.7, 0.9]) expect(normalizeSpan(SPAN, eqHistQuantile(SPAN, p), 'eq_hist')).toBeCloseTo(p, 9);
-  });
 });
 
 describe('densityTicks', () => {
-  it('eq_hist: quantile labels at 0, 25, 50, 75, 100 % of the bar', () => {
+  it('eq_hist: the stops at the quartiles, labelled with their values', () => {
     const t = densityTicks(SPAN, 'eq_hist');
     expect(t.map((x) => x.at)).toEqual([0, 0.25, 0.5, 0.75, 1]);
-    expect(t[0]!.label).toBe('1');
-    expect(t[2]!.label).toBe('2.5');
-    expect(t[4]!.label).toBe('10');
+    expect(t.map((x) => x.label)).toEqual(['1', '1.6', '3.3', '6.1', '10']);
   });
   it('linear: round values where the linear formula puts them, ends labelled', () => {
     const t = densityTicks({ ...SPAN, lo: 0, hi: 1000, how: 'linear' }, 'linear');

@@ -10,17 +10,21 @@ import { select } from 'd3-selection';
 import type { DensityHow, DensityValue } from '../api/types';
 import { FT_PER_M, KT_PER_MS, formatCompact, formatInt } from './format';
 
-/** The span the tiles of a zoom are shaded with (GET /api/v1/datasets/{dataset}/density/scale). */
-export interface DensitySpan {
+/**
+ * The legend of a zoom's density tiles (GET /api/v1/datasets/{dataset}/density/legend): the span's ends
+ * and `stops` at t = k/(n − 1), each with the colour the tiles give it (the minimum level applied) and the
+ * smallest data value normalised to at least t (eq_hist: the span's quantiles).
+ */
+export interface DensityLegendAnswer {
   empty: boolean;
   lo: number;
   hi: number;
-  samples: number;
-  cdf_values: number[];
-  cdf: number[];
   value: DensityValue;
   how: DensityHow;
   z: number;
+  unit: string;
+  min_level: number;
+  stops: { t: number; value: number; color: string }[];
 }
 
 /** One tick: its place along the bar (0 … 1) and its label. */
@@ -29,50 +33,25 @@ export interface LegendTick {
   label: string;
 }
 
-/** v normalised to [0, 1] as the server's SpanStats::normalize does (shade.hpp); NaN stays NaN. */
-export function normalizeSpan(s: Pick<DensitySpan, 'empty' | 'lo' | 'hi' | 'cdf_values' | 'cdf'>, v: number, how: DensityHow): number {
+/**
+ * v normalised to [0, 1] as the server's SpanStats::normalize does for linear and log1p shading
+ * (compute/include/trailscope/density/shade.hpp); NaN stays NaN. (eq_hist needs the span's distribution:
+ * its ticks come from the legend route's stops.)
+ */
+export function normalizeSpan(s: Pick<DensityLegendAnswer, 'empty' | 'lo' | 'hi'>, v: number, how: 'linear' | 'log'): number {
   if (Number.isNaN(v)) return v;
   if (s.empty) return 0;
   if (v <= s.lo) return 0;
   if (v >= s.hi) return 1;
   if (how === 'linear') return (v - s.lo) / (s.hi - s.lo);
-  if (how === 'log') {
-    const o = Math.min(s.lo, 0);
-    const a = Math.log1p(s.lo - o);
-    const b = Math.log1p(s.hi - o);
-    return (Math.log1p(v - o) - a) / (b - a);
-  }
-  const xs = s.cdf_values;
-  const cs = s.cdf;
-  let k = 0;
-  while (k + 1 < xs.length && xs[k + 1]! <= v) k++;
-  if (k + 1 >= xs.length) return 1;
-  const f = (v - xs[k]!) / (xs[k + 1]! - xs[k]!);
-  const c = cs[k]! + f * (cs[k + 1]! - cs[k]!);
-  const c0 = cs[0]!;
-  return c0 >= 1 ? 1 : Math.min(1, Math.max(0, (c - c0) / (1 - c0)));
+  const o = Math.min(s.lo, 0);
+  const a = Math.log1p(s.lo - o);
+  const b = Math.log1p(s.hi - o);
+  return (Math.log1p(v - o) - a) / (b - a);
 }
 
-/**
- * The value an eq_hist bar shows at place p (0 … 1): the inverse of normalizeSpan, i.e. the quantile
- * c0 + p·(1 − c0) of the span's distribution, interpolated between its points.
- */
-export function eqHistQuantile(s: Pick<DensitySpan, 'cdf_values' | 'cdf'>, p: number): number {
-  const xs = s.cdf_values;
-  const cs = s.cdf;
-  if (xs.length === 0) return NaN;
-  const c0 = cs[0]!;
-  const c = c0 + Math.min(1, Math.max(0, p)) * (1 - c0);
-  if (c <= c0) return xs[0]!;
-  for (let k = 0; k + 1 < xs.length; k++) {
-    if (cs[k + 1]! >= c) {
-      const span = cs[k + 1]! - cs[k]!;
-      const f = span > 0 ? (c - cs[k]!) / span : 1;
-      return xs[k]! + f * (xs[k + 1]! - xs[k]!);
-    }
-  }
-  return xs[xs.length - 1]!;
-}
+/** The stops a density legend asks for: k/20, so that the quartiles 0, ¼, ½, ¾, 1 are stops. */
+export const LEGEND_STOPS = 21;
 
 /** A density value in the dashboard's units: counts as they are, altitude in flight levels, speed in knots. */
 export function densityValueLabel(value: DensityValue, v: number): string {
@@ -98,19 +77,18 @@ function niceValues(value: DensityValue, lo: number, hi: number, n: number, log:
 
 /**
  * The density legend's ticks, `n` about how many fit: linear and log place round values in the data's
- * units where the server's normalisation puts them; eq_hist labels quantiles (0, 25, 50, 75, 100 % of the
- * shaded pixels with ≤ n of them), since equal distances along its bar are equal shares of pixels.
+ * units where the server's normalisation puts them; eq_hist labels the quartiles of the shaded pixels
+ * (the legend's stops at t = 0, ¼, ½, ¾, 1), since equal distances along its bar are equal shares of pixels.
  */
-export function densityTicks(s: DensitySpan, how: DensityHow, n = 5): LegendTick[] {
+export function densityTicks(s: DensityLegendAnswer, how: DensityHow, n = 5): LegendTick[] {
   if (s.empty) return [];
   const label = (v: number) => densityValueLabel(s.value, v);
   if (!(s.hi > s.lo)) return [{ at: 0.5, label: label(s.lo) }];
   if (how === 'eq_hist') {
-    const q = Math.max(2, Math.min(n, 5));
     const out: LegendTick[] = [];
-    for (let i = 0; i < q; i++) {
-      const p = i / (q - 1);
-      out.push({ at: p, label: label(eqHistQuantile(s, p)) });
+    for (const q of [0, 0.25, 0.5, 0.75, 1]) {
+      const stop = s.stops.find((x) => Math.abs(x.t - q) < 1e-9);
+      if (stop) out.push({ at: q, label: label(stop.value) });
     }
     return out;
   }
