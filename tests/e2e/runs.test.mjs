@@ -398,6 +398,11 @@ await test('table: sort by track share, click + Shift-click selects a range of 4
 });
 
 await test('the URL restores the view: a new tab shows the same sweep, selection and comparison', async () => {
+  // The comparison of the current selection has loaded (it follows the selection after a short delay).
+  await page.waitForFunction(() => {
+    const t = window.__trailscopeRuns.state();
+    return t.compare && (t.compare.ids.length < 2 || t.lanes.join(',') === t.compare.ids.join(','));
+  });
   const s = await state();
   const url = page.url();
   const other = await context.newPage();
