@@ -44,6 +44,12 @@ inline constexpr std::size_t kMaxPointsPerResponse = 200000;
 /// full answer is ~25 MB.
 inline constexpr std::size_t kMaxPositionsPerResponse = 100000;
 
+// --- picking on the density map --------------------------------------------------------------------
+/// Widest picking tolerance (screen pixels) of GET .../pick: a hover halo, not an area query.
+inline constexpr double kMaxPickTolerancePx = 32.0;
+/// Most flights one pick answers (nearest first).
+inline constexpr std::size_t kMaxPickResults = 100;
+
 // --- exports of a window ---------------------------------------------------------------------------
 /// Points (CSV rows; GeoJSON coordinates) of one export of a window's flights (GET .../export,
 /// `trailscope export`); more is 413 before a byte is sent. The Europe SO6 day (6.4 M points) fits whole:

@@ -29,11 +29,9 @@ void validate_pick(const PickRequest& r) {
   if (r.tile_size != limits::kTileSizeSmall && r.tile_size != limits::kTileSizeLarge)
     throw invalid_argument("tile_size", "tile_size must be " + std::to_string(limits::kTileSizeSmall) +
                                             " or " + std::to_string(limits::kTileSizeLarge));
-  if (!(r.tolerance_px > 0 && r.tolerance_px <= limits::kMaxPickTolerancePx))
-    throw invalid_argument(
-        "tolerance", "tolerance must lie in (0, " + format_double(limits::kMaxPickTolerancePx) + "] pixels");
-  if (r.limit < 1 || r.limit > limits::kMaxPickResults)
-    throw invalid_argument("limit", "limit must lie in 1.." + std::to_string(limits::kMaxPickResults));
+  if (!(r.tolerance_px > 0) || !std::isfinite(r.tolerance_px))
+    throw invalid_argument("tolerance", "tolerance must be a positive number of pixels");
+  if (r.limit < 1) throw invalid_argument("limit", "limit must be at least 1");
   if (!std::isfinite(r.x)) throw invalid_argument("x", "x must be a finite number");
   if (!(r.y >= 0 && r.y <= 1)) throw invalid_argument("y", "y must lie in [0, 1] (unit Web Mercator)");
 }

@@ -2,6 +2,7 @@
 // (compute/.../trails/pick.hpp), for hovering and clicking the map.
 #include <cmath>
 
+#include "limits.hpp"
 #include "params/query_params.hpp"
 #include "routes/handlers.hpp"
 #include "trailscope/core/error.hpp"
@@ -23,6 +24,9 @@ Response pick(App& app, const Request& req, const PathParams& p) {
   r.zoom = params::number(req, "zoom", 0);
   r.tile_size = static_cast<int>(params::integer(req, "tile_size", limits::kTileSizeSmall, 0, 1 << 20));
   r.tolerance_px = params::number(req, "tolerance", 5);
+  if (!(r.tolerance_px > 0 && r.tolerance_px <= limits::kMaxPickTolerancePx))
+    throw invalid_argument(
+        "tolerance", "tolerance must lie in (0, " + format_double(limits::kMaxPickTolerancePx) + "] pixels");
   r.limit = static_cast<std::size_t>(params::integer(req, "limit", 10, 1, limits::kMaxPickResults));
   const bool geo_point = req.query.count("lon") || req.query.count("lat");
   const bool px_point = req.query.count("x") || req.query.count("y");

@@ -22,12 +22,6 @@ inline constexpr int kMaxHistogramBins = 1000;
 /// Entries of the summary's top-callsigns list.
 inline constexpr int kMaxTopCallsigns = 100;
 
-// --- dashboard: picking, exports, data quality ------------------------------------------------------
-/// Widest picking tolerance (screen pixels) of GET .../pick: a hover halo, not an area query.
-inline constexpr double kMaxPickTolerancePx = 32.0;
-/// Most flights one pick answers (nearest first).
-inline constexpr std::size_t kMaxPickResults = 100;
-
 // --- tiles -------------------------------------------------------------------------------------------
 inline constexpr int kMinZoom = 0;
 inline constexpr int kMaxZoom = 22;

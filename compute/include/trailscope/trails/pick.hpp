@@ -14,8 +14,8 @@
 //
 // COST. The flights' extents (the zone map) skip every flight that cannot come within the tolerance;
 // the rest cost one pass over their points, so a pick costs at most one pass over the window's points —
-// the same as the summary — whatever the tolerance (at most limits::kMaxPickTolerancePx) and the number
-// of flights answered (at most limits::kMaxPickResults).
+// the same as the summary — whatever the tolerance and the number of flights answered (both capped by the
+// server: kMaxPickTolerancePx, kMaxPickResults in server/src/limits.hpp).
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -33,8 +33,9 @@ struct PickRequest {
   double x = 0, y = 0;
   double zoom = 0;          ///< fractional zoom, limits::kMinZoom..kMaxZoom
   int tile_size = 256;      ///< limits::kTileSizeSmall or kTileSizeLarge: the world is tile_size·2^zoom px
-  double tolerance_px = 5;  ///< flights at most this far (pixels, inclusive), in (0, kMaxPickTolerancePx]
-  std::size_t limit = 10;   ///< most flights answered, 1..limits::kMaxPickResults
+  double tolerance_px = 5;  ///< flights at most this far (pixels, inclusive), > 0 (the server caps it at
+                            ///< limits::kMaxPickTolerancePx)
+  std::size_t limit = 10;   ///< most flights answered, >= 1 (the server caps it at limits::kMaxPickResults)
 };
 
 /// One picked flight, with the closest point of its closest drawn segment.
