@@ -119,6 +119,14 @@ await test('summary numbers equal GET /summary with the same query', async () =>
   // The unfiltered data set has more points than the filtered view.
   const all = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/summary?bins=96`)).json();
   assert(all.points > api.points, `filters narrow the data (${api.points} of ${all.points})`);
+  // Data quality: the panel shows the API's counts of implausible values for the window.
+  assert(api.quality, 'the summary reports data quality');
+  for (const k of ['speed', 'altitude', 'jumps']) {
+    assertEqual(Number(await page.getAttribute(sel(`quality-${k}`), 'data-count')), api.quality[k].count, `implausible ${k}`);
+  }
+  // The Europe day holds implausible values (FL836, FL1141, 2,904 kt): the whole day's summary flags them.
+  assert(all.quality.altitude.count > 0 && all.quality.speed.count > 0, `the day's implausible values are counted (${JSON.stringify({ speed: all.quality.speed.count, altitude: all.quality.altitude.count, jumps: all.quality.jumps.count })})`);
+  console.log(`        quality of the day: ${all.quality.speed.count} speeds, ${all.quality.altitude.count} altitudes, ${all.quality.jumps.count} jumps`);
 });
 
 await test('density tiles for the current view load (200 image/png)', async () => {
