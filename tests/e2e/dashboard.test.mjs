@@ -127,6 +127,11 @@ await test('summary numbers equal GET /summary with the same query', async () =>
   // The Europe day holds implausible values (FL836, FL1141, 2,904 kt): the whole day's summary flags them.
   assert(all.quality.altitude.count > 0 && all.quality.speed.count > 0, `the day's implausible values are counted (${JSON.stringify({ speed: all.quality.speed.count, altitude: all.quality.altitude.count, jumps: all.quality.jumps.count })})`);
   console.log(`        quality of the day: ${all.quality.speed.count} speeds, ${all.quality.altitude.count} altitudes, ${all.quality.jumps.count} jumps`);
+  // The ingest report's counts are shown with the data set.
+  const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
+  assert(ds.ingest?.quality, 'the ingest report holds data quality');
+  assertEqual(Number(await page.getAttribute(sel('dataset-quality'), 'data-altitude')), ds.ingest.quality.altitude.count, 'ingest: implausible altitudes');
+  assertEqual(Number(await page.getAttribute(sel('dataset-quality'), 'data-speed')), ds.ingest.quality.speed.count, 'ingest: implausible speeds');
 });
 
 await test('density tiles for the current view load (200 image/png)', async () => {

@@ -221,6 +221,25 @@ function datasetMeta(d: Dataset): HTMLElement {
     `${d.format} · ${formatInt(d.flights)} flights · ${formatCompact(d.points)} points`,
     h('br'),
     `${formatUtc(d.t_min)} → ${formatUtc(d.t_max)} UTC`,
+    ingestQuality(d),
+  );
+}
+
+/** The ingest report's data-quality line: implausible values found and flights split at impossible jumps. */
+function ingestQuality(d: Dataset): HTMLElement | null {
+  const q = (d.ingest as { quality?: Record<string, { count?: number } | undefined> } | undefined)?.quality;
+  if (!q) return null;
+  const n = (k: string) => q[k]?.count ?? 0;
+  const parts = [
+    [n('speed'), 'speeds'],
+    [n('altitude'), 'altitudes'],
+    [n('jumps'), 'jumps'],
+    [n('jump_splits'), 'split at jumps'],
+  ].filter(([c]) => (c as number) > 0);
+  return h(
+    'div',
+    { class: 'hint', 'data-testid': 'dataset-quality', 'data-speed': String(n('speed')), 'data-altitude': String(n('altitude')), 'data-jumps': String(n('jumps')), 'data-splits': String(n('jump_splits')) },
+    parts.length ? `Ingest flagged: ${parts.map(([c, l]) => `${formatInt(c as number)} ${l}`).join(' · ')}` : 'Ingest: no implausible values',
   );
 }
 
