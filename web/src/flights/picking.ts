@@ -54,7 +54,8 @@ export interface PickingDeps {
 
 export class Picking {
   private readonly tip: HTMLElement;
-  private ctrl: AbortController | null = null;
+  /** Hover and click are separate channels: the move a click makes must not cancel the click's question. */
+  private readonly ctrls: Record<'hover' | 'click', AbortController | null> = { hover: null, click: null };
   private timer = 0;
   private last: PickedFlight[] = [];
 
@@ -74,12 +75,13 @@ export class Picking {
     this.timer = window.setTimeout(() => void this.hover(ll, pt), HOVER_DELAY_MS);
   }
 
-  private async ask(ll: maplibregl.LngLat, limit: number): Promise<PickAnswer | null> {
+  /** Asks the API; a newer question of the same kind (hover or click) cancels the older one. */
+  private async ask(ll: maplibregl.LngLat, limit: number, kind: 'hover' | 'click'): Promise<PickAnswer | null> {
     const t = this.deps.target();
     if (!t) return null;
-    this.ctrl?.abort();
+    this.ctrls[kind]?.abort();
     const ctrl = new AbortController();
-    this.ctrl = ctrl;
+    this.ctrls[kind] = ctrl;
     const q = pickQuery(t.query, ll.lng, ll.lat, this.deps.map.getZoom(), limit);
     try {
       return await request<PickAnswer>(`/api/v1/datasets/${encodeURIComponent(t.dataset)}/pick?${q.toString()}`, { signal: ctrl.signal });
@@ -90,7 +92,7 @@ export class Picking {
   }
 
   private async hover(ll: maplibregl.LngLat, pt: maplibregl.Point) {
-    const a = await this.ask(ll, 5);
+    const a = await this.ask(ll, 5, 'hover');
     if (!a || !this.deps.enabled()) return;
     this.last = a.flights;
     const c = this.deps.map.getCanvas().parentElement!;
@@ -111,7 +113,7 @@ export class Picking {
 
   private async click(ll: maplibregl.LngLat) {
     if (!this.deps.enabled()) return;
-    const a = await this.ask(ll, 1);
+    const a = await this.ask(ll, 1, 'click');
     const f = a?.flights[0];
     if (f) this.deps.onSelect(f);
   }
