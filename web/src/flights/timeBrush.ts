@@ -478,6 +478,8 @@ export class TimeBrush {
     const key = w ? `${w.start},${w.end}` : '';
     if (key !== this.typedFor) {
       this.typedFor = key;
+      // A window set another way (drag, keys, URL) replaces whatever was typed, and its error.
+      if (document.activeElement !== this.t0Input && document.activeElement !== this.t1Input) this.showTypedError(null);
       for (const [el, t] of [
         [this.t0Input, w?.start],
         [this.t1Input, w?.end],
