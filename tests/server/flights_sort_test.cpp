@@ -39,9 +39,9 @@ class FlightsSort : public test_routes::RouteFixture {
 TEST_F(FlightsSort, EveryColumnBothOrdersPagedAgainstAPlainSort) {
   const TrailSet& set = *test_routes::europe_trails();
   const auto& p = set.points();
-  // The window 08:00-09:00 above FL100 (3048 m): many flights are only partly inside, so "in window" and
+  // The window 06:00-12:00 above FL100 (3048 m): many flights are only partly inside, so "in window" and
   // "whole flight" columns differ.
-  const double t0 = kT0 + 8 * 3600, t1 = kT0 + 9 * 3600, alt_min = 10000 * 0.3048;
+  const double t0 = kT0 + 6 * 3600, t1 = kT0 + 12 * 3600, alt_min = 10000 * 0.3048;
   std::vector<Row> rows;
   for (std::uint32_t fi = 0; fi < set.num_flights(); ++fi) {
     const Flight& f = set.flights()[fi];
@@ -177,9 +177,10 @@ class FlightsSortHand : public test_routes::RouteFixture {
   }
   std::vector<std::string> callsigns(const std::string& order) {
     std::vector<std::string> out;
-    for (const auto& f :
-         body(get("/api/v1/datasets/hand/flights", {{"sort", "alt_max_m"}, {"order", order}}))["flights"])
-      out.push_back(f["callsign"]);
+    const Response r = get("/api/v1/datasets/hand/flights", {{"sort", "alt_max_m"}, {"order", order}});
+    EXPECT_EQ(r.status, 200) << r.body;
+    const auto j = body(r);  // named: a range-for over a temporary's member would read freed memory
+    for (const auto& f : j["flights"]) out.push_back(f["callsign"]);
     return out;
   }
 };

@@ -28,7 +28,7 @@ std::shared_ptr<Dataset> dataset() {
   for (const auto& [icao, cs, lat] : flights) {
     s.lat = lat, s.lon = -40, s.t = kT0, s.alt = 10000;
     b.add(icao, cs, s);
-    s.lon = 40, s.t = kT0 + 3600;
+    s.lon = 40, s.t = kT0 + 1200;  // within kFlightGapSeconds: one flight
     b.add(icao, cs, s);
   }
   auto ds = std::make_shared<Dataset>();
