@@ -1,6 +1,6 @@
 // Legends that read values: where a colour scale's values sit along its bar, in the data's units.
 // The density legend follows the server's own normalisation (compute/include/trailscope/density/shade.hpp:
-// linear, log1p and histogram equalisation against one span per zoom, GET .../density/scale), so a tick
+// linear, log1p and histogram equalisation against one span per zoom, GET .../density/legend), so a tick
 // at 40 % of the bar is the value the tiles paint with the colour at 40 %. Pure functions (unit-tested);
 // `renderLegend` draws one with d3-axis.
 
