@@ -33,7 +33,7 @@ function coveringTiles([w, s, e, n], z) {
 
 // ---------- run ----------
 const browser = await launchBrowser();
-const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, deviceScaleFactor: 1 });
+const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, deviceScaleFactor: 1, acceptDownloads: true });
 const page = await context.newPage();
 page.setDefaultTimeout(TIMEOUT);
 
@@ -119,6 +119,19 @@ await test('summary numbers equal GET /summary with the same query', async () =>
   // The unfiltered data set has more points than the filtered view.
   const all = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/summary?bins=96`)).json();
   assert(all.points > api.points, `filters narrow the data (${api.points} of ${all.points})`);
+  // Data quality: the panel shows the API's counts of implausible values for the window.
+  assert(api.quality, 'the summary reports data quality');
+  for (const k of ['speed', 'altitude', 'jumps']) {
+    assertEqual(Number(await page.getAttribute(sel(`quality-${k}`), 'data-count')), api.quality[k].count, `implausible ${k}`);
+  }
+  // The Europe day holds implausible values (FL836, FL1141, 2,904 kt): the whole day's summary flags them.
+  assert(all.quality.altitude.count > 0 && all.quality.speed.count > 0, `the day's implausible values are counted (${JSON.stringify({ speed: all.quality.speed.count, altitude: all.quality.altitude.count, jumps: all.quality.jumps.count })})`);
+  console.log(`        quality of the day: ${all.quality.speed.count} speeds, ${all.quality.altitude.count} altitudes, ${all.quality.jumps.count} jumps`);
+  // The ingest report's counts are shown with the data set.
+  const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
+  assert(ds.ingest?.quality, 'the ingest report holds data quality');
+  assertEqual(Number(await page.getAttribute(sel('dataset-quality'), 'data-altitude')), ds.ingest.quality.altitude.count, 'ingest: implausible altitudes');
+  assertEqual(Number(await page.getAttribute(sel('dataset-quality'), 'data-speed')), ds.ingest.quality.speed.count, 'ingest: implausible speeds');
 });
 
 await test('density tiles for the current view load (200 image/png)', async () => {
@@ -332,8 +345,386 @@ await test('raw/bundled toggle and the relaxation slider (no recomputation)', as
     const m = document.querySelector('[data-testid="map"]');
     return m.dataset.bundleTemplate.includes('relaxation=0.30') && m.dataset.idle === 'true' && m.dataset.bundleLoaded === 'true';
   });
+  // The bundle's colour legend: trail length in km, a bar of real width with ticks.
+  const bl = await page.$eval('[data-testid="bundle-legend"]', (el) => ({
+    width: el.querySelector('[data-testid="bundle-legend-bar"]').getBoundingClientRect().width,
+    ticks: el.dataset.ticks.split('|'),
+    lo: Number(el.dataset.loKm),
+    hi: Number(el.dataset.hiKm),
+  }));
+  assert(bl.width >= 200, `bundle legend ${bl.width} px wide`);
+  assert(bl.ticks.length >= 3 && bl.ticks.every((t) => /^≈[\d,]+$/.test(t)), `bundle legend ticks in km: ${bl.ticks}`);
+  assert(bl.lo > 0 && bl.hi > bl.lo && bl.hi < 5000, `trail lengths ${bl.lo}–${bl.hi} km`);
   await page.mouse.move(5, 5);
   await page.screenshot({ path: path.join(ARTIFACTS, 'bundling.png') });
+});
+
+// ---------- legends, time axis, state you can trust ----------
+
+/** The density legend's ticks as drawn: label and x of each tick relative to the bar's left edge. */
+async function legendTicks() {
+  return page.evaluate(() => {
+    const el = document.querySelector('[data-testid="density-legend"]');
+    const bar = el.querySelector('[data-testid="density-legend-bar"]').getBoundingClientRect();
+    return {
+      width: bar.width,
+      ticks: [...el.querySelectorAll('.value-legend-axis .tick')].map((t) => ({
+        label: t.querySelector('text').textContent,
+        x: t.querySelector('line').getBoundingClientRect().left - bar.left,
+      })),
+    };
+  });
+}
+
+/** The legend as the API gives it for the map's current query and zoom (21 stops, as the dashboard asks). */
+async function apiSpan(how) {
+  const m = await page.$(sel('map'));
+  const q = new URLSearchParams((await m.getAttribute('data-density-template')).split('?')[1]);
+  // The zoom of the tiles the map actually asked for with this template (the legend must be theirs).
+  const tq = (await m.getAttribute('data-density-template')).split('?')[1];
+  const zs = tileResponses.filter((r) => r.url.split('?')[1] === tq).map((r) => Number(new URL(r.url).pathname.split('/')[4]));
+  assert(zs.length > 0, 'tiles of the current template were requested');
+  const z = Math.max(...zs);
+  assertEqual(Number(await page.getAttribute(sel('density-legend'), 'data-z')), z, "the legend is of the tiles' zoom");
+  const p = new URLSearchParams();
+  for (const [k, v] of q) if (!['value', 'how', 'cmap', 'size'].includes(k)) p.set(k, v);
+  p.set('z', String(z));
+  p.set('value', q.get('value'));
+  p.set('how', how);
+  p.set('cmap', q.get('cmap'));
+  p.set('stops', '21');
+  const res = await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/density/legend?${p}`);
+  assertEqual(res.status, 200, 'density/legend status');
+  return res.json();
+}
+
+await test('the density legend reads values: real width, ticks of the server span (linear and eq_hist)', async () => {
+  await page.click('label[for="bundle-mode-raw"]');
+  await page.selectOption(sel('density-how'), 'linear');
+  await page.waitForFunction(() => {
+    const l = document.querySelector('[data-testid="density-legend"]');
+    const m = document.querySelector('[data-testid="map"]');
+    return l?.dataset.state === 'ready' && l.dataset.how === 'linear' && m.dataset.idle === 'true' && m.dataset.densityLoaded === 'true';
+  });
+  const span = await apiSpan('linear');
+  assertEqual(Number(await page.getAttribute(sel('density-legend'), 'data-hi')), span.hi, 'the legend shows the API span (hi)');
+  const lin = await legendTicks();
+  assert(lin.width >= 200, `the legend bar is ${lin.width} px wide`);
+  assert(lin.ticks.length >= 3, `linear ticks: ${JSON.stringify(lin.ticks)}`);
+  // Each tick sits where the linear shading puts its value: (v − lo) / (hi − lo) of the bar.
+  for (const t of lin.ticks) {
+    const v = Number(t.label.replace(/,/g, '').replace(/k$/, 'e3').replace(/M$/, 'e6'));
+    assert(Number.isFinite(v), `a count label: ${t.label}`);
+    const want = ((v - span.lo) / (span.hi - span.lo)) * lin.width;
+    assert(Math.abs(t.x - want) < 2.5 || /k|M/.test(t.label), `tick ${t.label} at ${t.x.toFixed(1)} px, linear shading puts it at ${want.toFixed(1)} px`);
+  }
+  await page.selectOption(sel('density-how'), 'eq_hist');
+  await page.waitForFunction(() => document.querySelector('[data-testid="density-legend"]')?.dataset.how === 'eq_hist' && document.querySelector('[data-testid="density-legend"]')?.dataset.state === 'ready');
+  const eq = await apiSpan('eq_hist');
+  const ticks = (await legendTicks()).ticks;
+  assertEqual(ticks.length, 5, 'eq_hist: five quartile ticks');
+  // The quartile ticks carry the API's values at t = 0, ¼, ½, ¾, 1, in order.
+  const fmt = (v) => (v >= 10_000 ? null : v >= 10 || Number.isInteger(v) ? Math.round(v).toLocaleString('en-US') : v.toFixed(1));
+  [0, 5, 10, 15, 20].forEach((k, i) => {
+    const want = fmt(eq.stops[k].value);
+    if (want !== null) assertEqual(ticks[i].label, want, `eq_hist tick ${k * 5} %`);
+    assert(Math.abs(ticks[i].x - (k / 20) * lin.width) < 2.5, `quartile tick ${i} at ${ticks[i].x} px`);
+  });
+  assert(eq.stops.every((x, k) => k === 0 || x.value >= eq.stops[k - 1].value), 'quantiles never decrease');
+  // The bar is painted with the tiles' colours: its first stop is the colormap at the minimum level.
+  const grad = await page.$$eval('[data-testid="density-legend"] stop', (st) => st.map((x) => x.getAttribute('stop-color')));
+  assertEqual(grad.join(','), eq.stops.map((x) => x.color).join(','), 'the bar has the API colours');
+  assert(eq.min_level > 0 && eq.stops[0].color !== '#000000', `faint traffic is not black (first colour ${eq.stops[0].color}, min level ${eq.min_level})`);
+  assert((await page.textContent(sel('density-legend'))).includes('quantiles'), 'the eq_hist legend says its ticks are quantiles');
+  state.legend = eq;
+  await page.locator(sel('density-legend')).screenshot({ path: path.join(ARTIFACTS, 'density-legend.png') });
+  console.log(`        linear ${lin.ticks.map((t) => t.label).join(' | ')}; eq_hist ${ticks.map((t) => t.label).join(' | ')}`);
+});
+
+await test('export PNG: the map view with its legend, at the canvas size', async () => {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(sel('export-png'))]);
+  const file = await dl.path();
+  const { readFile, copyFile } = await import('node:fs/promises');
+  const bytes = await readFile(file);
+  await copyFile(file, path.join(ARTIFACTS, 'export-view.png'));
+  assert(dl.suggestedFilename().endsWith('.png') && dl.suggestedFilename().startsWith(`trailscope-${DATASET}`), `file name ${dl.suggestedFilename()}`);
+  assertEqual(bytes.subarray(1, 4).toString('latin1'), 'PNG', 'a PNG file');
+  const px = await page.evaluate(async (b64) => {
+    const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+    const img = await createImageBitmap(new Blob([bin], { type: 'image/png' }));
+    const c = new OffscreenCanvas(img.width, img.height);
+    const ctx = c.getContext('2d');
+    ctx.drawImage(img, 0, 0);
+    const at = (x, y) => [...ctx.getImageData(x, y, 1, 1).data];
+    const H = img.height;
+    // The legend box sits 30 px above the bottom: bar from x = 30 to 250, 22 px below the box's top.
+    const barY = H - (8 * 2 + 14 + 10 + 18 + 13 + 30) + 8 + 14 + 5;
+    const d = ctx.getImageData(0, 0, img.width, img.height).data;
+    let lit = 0;
+    for (let i = 0; i < d.length; i += 4 * 97) if (d[i] + d[i + 1] + d[i + 2] > 60) lit++;
+    const map = window.trailscope.map.getCanvas();
+    return { w: img.width, h: img.height, mapW: map.width, mapH: map.height, left: at(32, barY), right: at(248, barY), lit };
+  }, bytes.toString('base64'));
+  assertEqual(px.w, px.mapW, 'PNG width is the map canvas width');
+  assertEqual(px.h, px.mapH, 'PNG height is the map canvas height');
+  // The legend's bar ends have the API legend's first and last colours (fire from its minimum level to white).
+  const hex = (c) => [1, 3, 5].map((i) => parseInt(c.slice(i, i + 2), 16));
+  const near = (a, b, tol) => a.every((v, i) => Math.abs(v - b[i]) <= tol);
+  assert(near(px.left.slice(0, 3), hex(state.legend.stops[0].color), 40), `the bar starts with ${state.legend.stops[0].color} (${px.left})`);
+  assert(near(px.right.slice(0, 3), hex(state.legend.stops[20].color), 40), `the bar ends with ${state.legend.stops[20].color} (${px.right})`);
+  assert(px.lit > 200, `the view is drawn (${px.lit} lit samples)`);
+});
+
+await test('a loading indicator shows while tiles of a new state load, then goes', async () => {
+  await page.evaluate(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    window.__loadingSeen = [];
+    new MutationObserver(() => window.__loadingSeen.push(m.dataset.loading)).observe(m, { attributes: true, attributeFilter: ['data-loading'] });
+  });
+  await page.selectOption(sel('density-cmap'), 'viridis');
+  await page.waitForFunction(() => {
+    const m = document.querySelector('[data-testid="map"]');
+    return m.dataset.densityTemplate.includes('cmap=viridis') && m.dataset.idle === 'true' && m.dataset.densityLoaded === 'true' && m.dataset.loading === 'false';
+  });
+  const seen = await page.evaluate(() => window.__loadingSeen);
+  assertEqual(seen[0], 'true', `the indicator came on first (${seen.join(',')})`);
+  assertEqual(seen[seen.length - 1], 'false', 'and went once the tiles were in');
+  assert(await page.locator(sel('map-loading')).isHidden(), 'the indicator is hidden at rest');
+  await page.selectOption(sel('density-cmap'), 'fire');
+});
+
+await test('an invalid callsign pattern shows its error and is never sent', async () => {
+  const before = requests.length;
+  await page.fill(sel('callsign'), 'AF-R');
+  await page.press(sel('callsign'), 'Enter');
+  await page.locator(sel('callsign')).blur();
+  await page.waitForFunction(() => (document.getElementById('callsign-error')?.textContent ?? '').includes('letters, digits'));
+  await page.waitForTimeout(800);
+  const sent = requests.slice(before).filter((u) => /callsign=AF-R|callsign=AF%2DR/i.test(u));
+  assertEqual(sent.length, 0, `requests with the invalid pattern: ${sent.join(', ')}`);
+  await page.fill(sel('callsign'), '');
+  await page.press(sel('callsign'), 'Enter');
+  await page.waitForFunction(() => !(document.getElementById('callsign-error')?.textContent ?? ''));
+});
+
+/** The largest of the axis's nudge steps at most 1/100 of the view (an independent copy of the rule). */
+const nudgeFor = (span) => [1, 5, 10, 30, 60, 300, 900, 3600, 10800, 21600, 86400].filter((s) => s <= span / 100).pop() ?? 1;
+
+await test('time axis: wheel zoom to minutes, a 10-minute selection at second resolution, typed ISO times, nudges', async () => {
+  const brush = sel('time-brush');
+  const box = await page.locator(brush).boundingBox();
+  const ds = (await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json());
+  // Zoom in with the wheel around the middle until the view is under an hour.
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  for (let i = 0; i < 6; i++) {
+    await page.mouse.wheel(0, -500);
+    await page.waitForTimeout(80);
+  }
+  await page.waitForFunction((b) => {
+    const e = document.querySelector(b);
+    return e.dataset.viewT1 && Number(e.dataset.viewT1) - Number(e.dataset.viewT0) < 3600;
+  }, brush);
+  const v0 = Number(await page.getAttribute(brush, 'data-view-t0'));
+  const v1 = Number(await page.getAttribute(brush, 'data-view-t1'));
+  assert(v0 >= ds.t_min - 1 && v1 <= ds.t_max + 2, `the view stays in the data (${v0}…${v1})`);
+  // The histogram is asked for the view: its bins are finer than the whole day's.
+  await page.waitForFunction(() => new URLSearchParams(location.hash.slice(1)).has('tview'));
+  // Drag over 10 minutes of the view: the window keeps the dragged seconds (no 15/30-minute bins).
+  // (The earlier window covers the whole zoomed view, where a press would move it: clear it first.)
+  await page.click(sel('time-clear'));
+  await page.waitForFunction((b) => document.querySelector(b).dataset.t0 === '', brush);
+  const plot = await page.locator(brush).boundingBox();
+  assert(Math.abs(plot.y - box.y) < 3, `the wheel did not scroll the page (${box.y} → ${plot.y})`);
+  const pxPerS = plot.width / (v1 - v0);
+  const xa = plot.x + (plot.width - 600 * pxPerS) / 2;
+  await page.mouse.move(xa, plot.y + plot.height * 0.5);
+  await page.mouse.down();
+  await page.mouse.move(xa + 300 * pxPerS, plot.y + plot.height * 0.5, { steps: 6 });
+  await page.mouse.move(xa + 600 * pxPerS, plot.y + plot.height * 0.5, { steps: 6 });
+  await page.mouse.up();
+  const t0 = Number(await page.getAttribute(brush, 'data-t0'));
+  const t1 = Number(await page.getAttribute(brush, 'data-t1'));
+  assert(Number.isInteger(t0) && Number.isInteger(t1), `whole seconds (${t0}, ${t1})`);
+  assert(Math.abs(t1 - t0 - 600) <= 2 * Math.ceil(1 / pxPerS) + 1, `a 10-minute drag selects 10 minutes (${t1 - t0} s)`);
+  // Typed ISO 8601 at second resolution: exactly what the summary asks for.
+  const iso = (t) => new Date(t * 1000).toISOString().replace(/\.\d{3}Z$/, 'Z');
+  const a = Math.floor((v0 + v1) / 2) - 293; // deliberately not on any bin edge
+  await page.fill(sel('time-t0-input'), iso(a));
+  await page.fill(sel('time-t1-input'), iso(a + 600));
+  await page.press(sel('time-t1-input'), 'Enter');
+  await page.waitForFunction(([x, y]) => {
+    const s = document.querySelector('[data-testid="summary"]');
+    const q = new URLSearchParams(s?.dataset.query ?? '');
+    return s?.dataset.state === 'ready' && q.get('t0') === String(x) && q.get('t1') === String(y);
+  }, [a, a + 600]);
+  // The URL keeps the window to the second (written once the state rests).
+  await page.waitForFunction(([x, y]) => {
+    const q = new URLSearchParams(location.hash.slice(1));
+    return q.get('t0') === String(x) && q.get('t1') === String(y);
+  }, [a, a + 600]);
+  const api = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/summary?t0=${a}&t1=${a + 600}&bins=96`)).json();
+  assertEqual(Number(await page.getAttribute(sel('summary-points'), 'data-value')), api.points, 'the 10-minute window summary equals the API');
+  // A typo is shown, not sent.
+  const before = requests.length;
+  await page.fill(sel('time-t0-input'), '2018-13-01T00:00Z');
+  await page.press(sel('time-t0-input'), 'Enter');
+  await page.waitForSelector(`${sel('time-typed-error')}:not([hidden])`);
+  assertEqual(requests.slice(before).filter((u) => u.includes('/summary')).length, 0, 'no query for a bad typed time');
+  // Keyboard nudges: → moves the window by the view's nudge step.
+  const vs = Number(await page.getAttribute(brush, 'data-view-t1')) - Number(await page.getAttribute(brush, 'data-view-t0'));
+  await page.locator(brush).focus();
+  await page.keyboard.press('ArrowRight');
+  assertEqual(Number(await page.getAttribute(brush, 'data-t0')), a + nudgeFor(vs), `→ nudges by ${nudgeFor(vs)} s`);
+  await page.keyboard.press('ArrowLeft');
+  assertEqual(Number(await page.getAttribute(brush, 'data-t0')), a, '← nudges back');
+  await page.locator('#timeline').screenshot({ path: path.join(ARTIFACTS, 'time-axis-10min.png') });
+  console.log(`        view ${Math.round(v1 - v0)} s, drag ${t1 - t0} s, typed ${iso(a)} + 600 s, nudge ${nudgeFor(vs)} s`);
+});
+
+// ---------- sorting, picking, exports (the window is now 10 minutes) ----------
+
+await test('the flight list sorts on the server: a header click gives the API order, again reverses; the URL keeps it', async () => {
+  const q = await page.getAttribute(sel('summary'), 'data-query');
+  const rowsShown = () =>
+    page.$$eval('[data-testid="flight-row"]', (rows) =>
+      rows.map((r) => ({ id: Number(r.dataset.flightId), dur: r.querySelector('[data-col="flight_duration_s"]').textContent })),
+    );
+  for (const order of ['asc', 'desc']) {
+    await page.click(sel('flight-sort-flight_duration_s'));
+    await page.waitForFunction((o) => {
+      const f = document.querySelector('[data-testid="flights"]');
+      return f?.dataset.state === 'ready' && f.dataset.sort === 'flight_duration_s' && f.dataset.order === o;
+    }, order);
+    const api = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights?${q}&page=0&page_size=50&sort=flight_duration_s&order=${order}`)).json();
+    const shown = await rowsShown();
+    assertEqual(shown.map((r) => r.id).join(','), api.flights.map((f) => f.id).join(','), `the ${order} page equals the API's`);
+    // Independently of the server: the whole-flight durations of the rows are in order.
+    const d = api.flights.map((f) => f.flight_t_end - f.flight_t_start);
+    assert(d.every((v, i) => i === 0 || (order === 'asc' ? v >= d[i - 1] - 1e-6 : v <= d[i - 1] + 1e-6)), `whole-flight durations ${order}: ${d.slice(0, 8).join(',')}`);
+    assert(api.flights.every((f) => f.flight_t_start <= f.t_start && f.flight_t_end >= f.t_end), 'in-window times lie inside the whole flight');
+  }
+  await page.waitForFunction(() => {
+    const h = new URLSearchParams(location.hash.slice(1));
+    return h.get('fsort') === 'flight_duration_s' && h.get('forder') === 'desc';
+  });
+  await page.locator('#flights-section').screenshot({ path: path.join(ARTIFACTS, 'flight-list-sorted.png') });
+});
+
+await test('hover and click on the density map pick the flight the API picks', async () => {
+  await page.keyboard.press('Escape');
+  const q = await page.getAttribute(sel('summary'), 'data-query');
+  // A flight of the list with a drawn trail in the window (two matching points or more).
+  const ids = (await page.$$eval('[data-testid="flight-row"]', (rows) => rows.map((r) => Number(r.dataset.flightId)))).slice(0, 20);
+  let first = -1;
+  let coords = [];
+  for (const id of ids) {
+    const f = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights/${id}?${q}&clip=1`)).json();
+    if (f.geometry.coordinates.length >= 2) {
+      first = id;
+      coords = f.geometry.coordinates;
+      break;
+    }
+  }
+  assert(first >= 0, `a listed flight has a trail in the window (of ${ids.length})`);
+  const mid = coords[Math.floor(coords.length / 2)];
+  await page.evaluate(([lng, lat]) => window.trailscope.map.jumpTo({ center: [lng, lat], zoom: 8 }), mid);
+  await page.waitForFunction(() => document.querySelector('[data-testid="map"]')?.dataset.idle === 'true');
+  const box = await page.locator(sel('map')).boundingBox();
+  const p = await page.evaluate(([lng, lat]) => window.trailscope.map.project([lng, lat]), mid);
+  await page.mouse.move(box.x + p.x - 3, box.y + p.y - 3);
+  await page.mouse.move(box.x + p.x, box.y + p.y);
+  await page.waitForFunction(() => !document.querySelector('[data-testid="pick-tooltip"]')?.hidden);
+  const ll = await page.evaluate(([x, y]) => {
+    const m = window.trailscope.map;
+    const l = m.unproject([x, y]);
+    return { lng: l.lng, lat: l.lat, zoom: m.getZoom() };
+  }, [p.x, p.y]);
+  const pq = new URLSearchParams(q);
+  for (const k of ['bbox']) pq.delete(k);
+  pq.set('lon', ll.lng.toFixed(6));
+  pq.set('lat', ll.lat.toFixed(6));
+  pq.set('zoom', ll.zoom.toFixed(4));
+  pq.set('tile_size', '512');
+  pq.set('tolerance', '5');
+  pq.set('limit', '5');
+  const api = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/pick?${pq}`)).json();
+  assert(api.flights.length > 0, 'the API picks a flight there');
+  assert(api.flights.some((x) => x.id === first), `the flight drawn there is among the picked (${api.flights.map((x) => x.id)})`);
+  assertEqual(Number(await page.getAttribute(sel('pick-tooltip'), 'data-flight-id')), api.flights[0].id, 'the hovered flight is the API nearest');
+  assertEqual(await page.getAttribute(sel('pick-tooltip'), 'data-flights'), api.flights.map((x) => x.id).join(','), 'the hovered list');
+  await page.screenshot({ path: path.join(ARTIFACTS, 'pick-hover.png') });
+  await page.mouse.click(box.x + p.x, box.y + p.y);
+  await page.waitForFunction((id) => document.querySelector('[data-testid="map"]')?.dataset.track === String(id), api.flights[0].id);
+  await page.waitForFunction(() => document.querySelector('[data-testid="flight-card"]')?.dataset.state === 'ready');
+  assertEqual((await page.textContent(sel('card-callsign'))).trim(), api.flights[0].callsign || '—', 'the clicked flight is shown');
+  await page.keyboard.press('Escape');
+});
+
+/** Downloads what a click on `testid` gives; its text and file name. */
+async function download(testid) {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(sel(testid))]);
+  const { readFile, copyFile } = await import('node:fs/promises');
+  const file = await dl.path();
+  await copyFile(file, path.join(ARTIFACTS, `export-${dl.suggestedFilename()}`));
+  return { name: dl.suggestedFilename(), text: await readFile(file, 'utf8') };
+}
+
+await test("exports: the window's flights as GeoJSON and CSV and the summary as JSON and CSV equal the API", async () => {
+  const q = await page.getAttribute(sel('summary'), 'data-query');
+  const sum = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/summary?${q}&bins=96`)).json();
+  const list = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights?${q}&page=0&page_size=1`)).json();
+  const gj = await download('export-geojson');
+  assert(gj.name.endsWith('.geojson'), gj.name);
+  const fc = JSON.parse(gj.text);
+  assertEqual(fc.type, 'FeatureCollection', 'GeoJSON type');
+  assertEqual(fc.features.length, list.total, 'one feature per flight of the list');
+  assertEqual(fc.features.reduce((a, f) => a + f.geometry.coordinates.length, 0), sum.points, 'the points are the summary points');
+  const f0 = fc.features[0];
+  const one = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}/flights/${f0.properties.id}?${q}&clip=1`)).json();
+  assertEqual(JSON.stringify(f0.geometry.coordinates), JSON.stringify(one.geometry.coordinates), 'a feature equals GET /flights/{id}?clip=1');
+  const csv = await download('export-csv');
+  const lines = csv.text.trim().split('\n');
+  assertEqual(lines[0], 'flight_id,icao24,callsign,t,lat,lon,alt_m,speed_ms,track_deg,vrate_ms,on_ground', 'CSV header');
+  assertEqual(lines.length - 1, sum.points, 'one CSV row per point');
+  assertEqual(new Set(lines.slice(1).map((l) => l.split(',')[0])).size, list.total, 'the CSV covers every flight');
+  // The first feature's first point, in the CSV (same numbers).
+  const [lon, lat] = f0.geometry.coordinates[0];
+  const row = lines.find((l) => l.startsWith(`${f0.properties.id},`));
+  const c = row.split(',');
+  // Positions are stored as float32: the CSV's shortest text reads back to the same float32.
+  assert(Math.fround(Number(c[5])) === Math.fround(lon) && Math.fround(Number(c[4])) === Math.fround(lat), `the CSV row ${row} holds the GeoJSON point ${lon},${lat}`);
+  const sj = JSON.parse((await download('export-summary-json')).text);
+  assertEqual(sj.points, sum.points, 'summary JSON points');
+  assertEqual(sj.flights, sum.flights, 'summary JSON flights');
+  const sc = Object.fromEntries((await download('export-summary-csv')).text.trim().split('\n').slice(1).map((l) => l.split(',')));
+  assertEqual(Number(sc.points), sum.points, 'summary CSV points');
+  assertEqual(Number(sc.flights), sum.flights, 'summary CSV flights');
+  console.log(`        ${fc.features.length} flights, ${sum.points} points exported`);
+});
+
+await test('a bundle is marked stale when its window changed; one click recomputes it', async () => {
+  // The bundle's window shifted by half an hour, typed (the time-axis step above may have moved it already).
+  const iso = (t) => new Date(t * 1000).toISOString().replace(/\.\d{3}Z$/, 'Z');
+  const sq = new URLSearchParams(state.query);
+  const b0 = Number(state.bundle.source.query?.t0 ?? sq.get('t0'));
+  const b1 = Number(state.bundle.source.query?.t1 ?? sq.get('t1'));
+  await page.fill(sel('time-t0-input'), iso(b0 + 1800));
+  await page.fill(sel('time-t1-input'), iso(b1 + 1800));
+  await page.press(sel('time-t1-input'), 'Enter');
+  await page.waitForFunction(() => document.querySelector('#bundle-section')?.dataset.stale === 'true');
+  assert(await page.locator(sel('bundle-stale')).isVisible(), 'the stale mark shows');
+  await page.screenshot({ path: path.join(ARTIFACTS, 'bundle-stale.png') });
+  const old = await page.getAttribute(bundlePanel, 'data-bundle');
+  await page.click(sel('bundle-recompute'));
+  await page.waitForFunction((o) => {
+    const el = document.querySelector('#bundle-section');
+    return el?.dataset.state === 'done' && el.dataset.bundle && el.dataset.bundle !== o && el.dataset.stale === 'false';
+  }, old, { timeout: 120_000 });
+  const id = await page.getAttribute(bundlePanel, 'data-bundle');
+  const meta = await (await fetch(`${BASE_URL}/api/v1/bundles/${id}`)).json();
+  const t0 = await page.getAttribute(sel('time-brush'), 'data-t0');
+  assert(t0 && JSON.stringify(meta.source).includes(t0), `the new bundle is of the current window (t0 ${t0}): ${JSON.stringify(meta.source)}`);
+  assert(await page.locator(sel('bundle-stale')).isHidden(), 'no stale mark on the new bundle');
 });
 
 await test('no request went to a non-loopback host', async () => {

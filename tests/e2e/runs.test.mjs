@@ -398,6 +398,11 @@ await test('table: sort by track share, click + Shift-click selects a range of 4
 });
 
 await test('the URL restores the view: a new tab shows the same sweep, selection and comparison', async () => {
+  // The comparison of the current selection has loaded (it follows the selection after a short delay).
+  await page.waitForFunction(() => {
+    const t = window.__trailscopeRuns.state();
+    return t.compare && (t.compare.ids.length < 2 || t.lanes.join(',') === t.compare.ids.join(','));
+  });
   const s = await state();
   const url = page.url();
   const other = await context.newPage();
@@ -438,6 +443,12 @@ await test('parallel coordinates: brushing the ncc_min axis filters the runs to 
   const dimmed = await page.locator(`${sel('runs-table')} tbody tr.dim`).count();
   assertEqual(dimmed, st.runs.size - s.filter.length, 'the table dims the runs outside the filter');
   console.log(`        ncc_min ≤ ${cut.toFixed(3)}: ${s.filter.length} runs in the filter`);
+  // The filter is in the URL: a new tab opens with the same runs filtered.
+  await page.waitForFunction(() => /[?&]pc=param:ncc_min:/.test(location.hash));
+  const other = await context.newPage();
+  await other.goto(page.url(), { waitUntil: 'domcontentloaded' });
+  await other.waitForFunction((n) => window.__trailscopeRuns?.state().filter?.length === n, s.filter.length);
+  await other.close();
   await page.mouse.move(5, 5);
   await page.setViewportSize({ width: 1600, height: 1900 });
   await page.waitForTimeout(400);
@@ -542,6 +553,37 @@ await test('the sweep launcher starts a small sweep and opens it when done', asy
   assertEqual(sweep.spec.axes[0].param, 'ncc_min', 'it sweeps ncc_min');
   await page.waitForFunction((id) => document.querySelector('[data-testid="sweep-select"]')?.value === id, s.sweep);
   console.log(`        sweep ${s.sweep}: ${(await page.textContent(sel('launch-status'))).trim()}`);
+});
+
+await test('t-SNE on a 20-run sweep: the perplexity is capped to (N − 1) / 3 and the projection is drawn', async () => {
+  // The 3-run sweep the launcher just opened is too small for t-SNE: the option says why.
+  const opt = page.locator(`${sel('method-select')} option[value="tsne"]`);
+  await page.waitForFunction(() => document.querySelector('[data-testid="method-select"] option[value="tsne"]')?.disabled === true);
+  assert(((await opt.getAttribute('title')) ?? '').includes('at least 4 runs'), 'the disabled t-SNE option gives the rule');
+  const r = await api('POST', '/api/v1/sweeps', {
+    videos: [st.videos[0]],
+    sweep: { mode: 'random', samples: 20, seed: 5, axes: [{ param: 'ncc_min', min: 0.1, max: 0.8 }, { param: 'r_max_mm', min: 8, max: 30 }] },
+  });
+  await waitJob(r.job.id, `sweep ${r.sweep.id}`, 120_000);
+  const sweep = await api('GET', `/api/v1/sweeps/${r.sweep.id}`);
+  assertEqual(sweep.runs.length, 20, 'the sweep holds 20 runs');
+  await page.goto(`${BASE_URL}/#runs?sweep=${encodeURIComponent(r.sweep.id)}&method=tsne`, { waitUntil: 'domcontentloaded' });
+  await page.waitForFunction(() => window.__trailscopeRuns?.state().projection?.method === 'tsne', null, { timeout: 60_000 });
+  await page.waitForFunction(() => document.querySelector('[data-testid="projection"]')?.dataset.state === 'ready');
+  const s = await state();
+  assertEqual(s.points.length, 20, 'all 20 runs are projected');
+  // Capped as openTSNE does: floor((20 − 1) / 3, 0.01) = 6.33, and the server accepted it (3·6.33 ≤ 19).
+  assertEqual(await page.getAttribute('.perplexity', 'data-value'), '6.33', 'the perplexity sent');
+  assert((await page.textContent(sel('perplexity-note'))).includes('capped to 6.33'), 'the cap is said');
+  // A smaller perplexity is sent as asked and kept in the URL.
+  await page.fill(sel('perplexity-input'), '4');
+  await page.press(sel('perplexity-input'), 'Enter');
+  await page.locator(sel('perplexity-input')).blur();
+  await page.waitForFunction(() => location.hash.includes('perp=4') && document.querySelector('.perplexity')?.dataset.value === '4');
+  await page.waitForFunction(() => document.querySelector('[data-testid="projection"]')?.dataset.state === 'ready');
+  // Every point is drawn with a visible rim: count lit pixels at the points' places.
+  await page.mouse.move(5, 5);
+  await page.locator('.projection-panel').screenshot({ path: path.join(ARTIFACTS, 'runs-tsne-20.png') });
 });
 
 await test('no request went to a non-loopback host', async () => {

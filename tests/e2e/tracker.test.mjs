@@ -191,6 +191,38 @@ await test('seek in B by clicking a trajectory plot, then step +1 (button) and +
   assertEqual(pairs.slice(1).join(' '), 'FL–FR RL–RR FL–RL FR–RR FL–RR FR–RL', 'the six model pairs are listed');
 });
 
+await test("the live replay's frame is in the URL: a third viewer opens at it", async () => {
+  const f = await num(b, sel('replay-frame'), 'data-frame');
+  await b.waitForFunction((fr) => new URLSearchParams(location.hash.split('?')[1]).get('frame') === String(fr), f);
+  const url = b.url();
+  assert(url.includes(`replay=${encodeURIComponent(st.replay)}`), `the URL names the replay: ${url}`);
+  const c = await context.newPage();
+  c.setDefaultTimeout(TIMEOUT);
+  await c.goto(url, { waitUntil: 'domcontentloaded' });
+  await c.waitForFunction((fr) => Number(document.querySelector('[data-testid="replay-images"]')?.dataset.frame) === fr, f);
+  assertEqual(await num(c, sel('frame-data'), 'data-frame'), f, 'the third viewer shows the frame of the URL');
+  await c.close();
+});
+
+await test('a LOST frame shows "-" for what it does not have (never 0.00 0.0 0.0 0.0)', async () => {
+  const f = await b.evaluate(() => window.trailscopeTracker.store.records.findIndex((r) => r?.state === 'LOST'));
+  assert(f >= 0, 'the replay has a LOST frame');
+  await b.evaluate((fr) => window.trailscopeTracker.seek(fr), f);
+  await b.waitForFunction((fr) => {
+    const d = document.querySelector('[data-testid="frame-data"]');
+    return Number(d?.dataset.frame) === fr && d.dataset.state === 'LOST';
+  }, f);
+  const rows = await b.$$eval(`${sel('frame-teats')} tbody tr`, (trs) => trs.map((tr) => [...tr.querySelectorAll('td')].map((td) => td.textContent.trim())));
+  const unseen = rows.filter((r) => r[1] === '-');
+  assert(unseen.length > 0, `a LOST frame has teats without an estimate: ${JSON.stringify(rows)}`);
+  for (const r of unseen) assertEqual(r.slice(2, 7).join(' '), '- - - - -', `teat ${r[0]}: conf, x, y, z, r`);
+  assert(!rows.some((r) => r[1] === '-' && r.slice(3, 6).join(' ') === '0.0 0.0 0.0'), 'no zero position is shown for a teat the frame lacks');
+  const rec = await b.evaluate((fr) => window.trailscopeTracker.store.records[fr].model.teatsMatched, f);
+  if (rec === 0) assertEqual((await b.textContent(sel('frame-cost'))).trim(), '-', 'no model, no cost');
+  await b.locator(sel('frame-data')).screenshot({ path: path.join(ARTIFACTS, 'tracker-lost-frame.png') });
+  console.log(`        LOST frame ${f}: ${unseen.length} teats without an estimate, model teats matched ${rec}`);
+});
+
 await test(`the ${VIDEO} timeline shows tracking (blue) and lost (red)`, async () => {
   const d = await b.$eval(sel('state-timeline'), (el) => ({ ...el.dataset }));
   const px = await timelineColours(b);
@@ -270,6 +302,31 @@ await test("#tracker?run=RUN&frame=N opens the replay's stored run at frame N: e
     const t = document.querySelector('[data-testid="tracker"]');
     return t?.dataset.replay === id && t.dataset.state === 'ready' && !t.dataset.run;
   }, st.replay);
+});
+
+await test('per-frame depth range: the stored run asks each frame for its own range (no min/max), and the URL keeps it', async () => {
+  await b.bringToFront();
+  const r = await (await fetch(`${BASE_URL}/api/v1/replays/${encodeURIComponent(st.replay)}`)).json();
+  const frame = Math.floor(st.frames * 0.3);
+  await b.evaluate(([run, f]) => (location.hash = `#tracker?run=${encodeURIComponent(run)}&frame=${f}`), [r.run, frame]);
+  await trackerRunReady(b, r.run);
+  await trackerShowsFrame(b, frame);
+  const depthReq = (f) => requests.filter((u) => new RegExp(`/frames/${f}/depth\\.png`).test(u));
+  const withRange = depthReq(frame).pop();
+  assert(withRange && /[?&]min=/.test(withRange) === (st.video.depth_range_mm !== undefined), `one video range by default: ${withRange}`);
+  const before = await canvasStats(b, 'replay-depth');
+  await b.check(sel('depth-per-frame'));
+  await b.waitForFunction(() => location.hash.includes('depth=frame'));
+  await b.waitForFunction((f) => [...performance.getEntriesByType('resource')].some((e) => e.name.includes(`/frames/${f}/depth.png`) && !/[?&]min=/.test(e.name)), frame);
+  await trackerShowsFrame(b, frame);
+  const per = depthReq(frame).filter((u) => !/[?&]min=/.test(u));
+  assert(per.length > 0, 'the frame was fetched with its own range');
+  const after = await canvasStats(b, 'replay-depth');
+  if (st.video.depth_range_mm) assert(after.hash !== before.hash, 'the picture changed with the range');
+  await b.mouse.move(5, 5);
+  await b.screenshot({ path: path.join(ARTIFACTS, 'tracker-depth-per-frame.png') });
+  await b.uncheck(sel('depth-per-frame'));
+  await b.waitForFunction(() => !location.hash.includes('depth=frame'));
 });
 
 await test('the parameter form: a bad value is refused in place, a good one starts a replay with it', async () => {

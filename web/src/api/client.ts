@@ -1,6 +1,7 @@
 // Typed client for the TrailScope REST API (same origin as the page: requests carry the session cookie).
 import { notifyUnauthorized } from './session';
 
+import type { DensityLegendAnswer } from '../lib/legend';
 import type {
   ApiErrorBody,
   Bundle,
@@ -11,6 +12,8 @@ import type {
   DatasetList,
   FlightFeature,
   FlightPage,
+  FlightSort,
+  SortOrder,
   Health,
   Job,
   JobAccepted,
@@ -96,10 +99,24 @@ export const api = {
     return request<Summary>(withQuery(`${ds(id)}/summary`, q), { signal });
   },
 
-  flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal) {
+  /** The legend of the density tiles at zoom z: values and colours of the shading applied. */
+  densityLegend(id: string, query: URLSearchParams, z: number, r: { value: string; how: string; cmap: string }, stops: number, signal?: AbortSignal) {
+    const q = new URLSearchParams(query);
+    q.set('z', String(z));
+    q.set('value', r.value);
+    q.set('how', r.how);
+    q.set('cmap', r.cmap);
+    q.set('stops', String(stops));
+    return request<DensityLegendAnswer>(withQuery(`${ds(id)}/density/legend`, q), { signal });
+  },
+  flights(id: string, query: URLSearchParams, page: number, pageSize: number, signal?: AbortSignal, sort?: { sort: FlightSort; order: SortOrder }) {
     const q = new URLSearchParams(query);
     q.set('page', String(page));
     q.set('page_size', String(pageSize));
+    if (sort) {
+      q.set('sort', sort.sort);
+      q.set('order', sort.order);
+    }
     return request<FlightPage>(withQuery(`${ds(id)}/flights`, q), { signal });
   },
 

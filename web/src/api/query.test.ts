@@ -122,4 +122,13 @@ describe('validateFilters', () => {
       detail: 'Not a 24-bit hex address: xyz (six hex digits, e.g. 4ca7b5).',
     });
   });
+
+  it('refuses a callsign the server would (one pattern of [A-Z0-9*?], at most 16 characters)', () => {
+    expect(validateFilters(f({ callsign: 'afr*' }))).toBeNull();
+    expect(validateFilters(f({ callsign: 'BAW1?' }))).toBeNull();
+    expect(validateFilters(f({ callsign: 'AF-R' }))?.param).toBe('callsign');
+    expect(validateFilters(f({ callsign: 'AFR, BAW' }))?.param).toBe('callsign');
+    expect(validateFilters(f({ callsign: 'A'.repeat(17) }))?.param).toBe('callsign');
+    expect(validateFilters(f({ callsign: 'A'.repeat(16) }))).toBeNull();
+  });
 });

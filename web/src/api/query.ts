@@ -170,6 +170,9 @@ export function datasetNameFromFile(fileName: string): string {
   return id || 'dataset';
 }
 
+/** The server's longest callsign pattern (limits::kMaxCallsignPatternLength). */
+export const CALLSIGN_PATTERN_MAX = 16;
+
 /** A filter problem found before asking the server, in the API's error shape. */
 export interface FilterProblem {
   param: string;
@@ -184,6 +187,11 @@ export function validateFilters(f: Filters): FilterProblem | null {
   if (f.t0 !== null && f.t1 !== null && f.t0 >= f.t1) return { param: 't0', detail: 'The time window ends before it starts.' };
   if (f.altMin !== null && f.altMax !== null && f.altMin > f.altMax)
     return { param: 'alt_min', detail: `The band's lower altitude (${f.altMin} ft) is above its upper one (${f.altMax} ft).` };
+  const cs = normalizeCallsign(f.callsign);
+  if (cs.length > CALLSIGN_PATTERN_MAX)
+    return { param: 'callsign', detail: `A callsign pattern has at most ${CALLSIGN_PATTERN_MAX} characters (this one has ${cs.length}).` };
+  if (cs && !/^[A-Z0-9*?]+$/.test(cs))
+    return { param: 'callsign', detail: `One callsign pattern of letters, digits, * and ? (not "${cs}"), e.g. AFR* or BAW1?.` };
   const bad = normalizeIcao24(f.icao24)
     .split(',')
     .filter((a) => a && !/^[0-9a-f]{6}$/.test(a));

@@ -98,8 +98,33 @@ export interface Summary {
   /** The server's canonical form of the query it answered. */
   query?: string;
   elapsed_ms: number;
+  /** Physically implausible values among the matching points (counts and the largest examples). */
+  quality?: QualityReport;
 }
 
+export interface QualityExample {
+  flight_id: number;
+  callsign: string;
+  t: number;
+  /** m/s for speeds and jumps, metres for altitudes. */
+  value: number;
+  value_kt?: number;
+  value_fl?: number;
+}
+
+export interface QualityCount {
+  count: number;
+  examples: QualityExample[];
+}
+
+export interface QualityReport {
+  limits?: { speed_ms?: number; speed_kt?: number; altitude_m?: number; altitude_fl?: number };
+  speed: QualityCount;
+  altitude: QualityCount;
+  jumps: QualityCount;
+}
+
+/** A flight of the list: "in window" columns cover its points passing the filters, flight_* the whole flight. */
 export interface FlightRow {
   id: number;
   icao24: string;
@@ -108,12 +133,37 @@ export interface FlightRow {
   t_end: number;
   points: number;
   alt_max_m: number;
+  duration_s?: number;
+  flight_t_start?: number;
+  flight_t_end?: number;
+  flight_duration_s?: number;
+  flight_points?: number;
 }
+
+/** The flight list's sort columns (GET …/flights `sort`). */
+export const FLIGHT_SORTS = [
+  'id',
+  'icao24',
+  'callsign',
+  't_start',
+  't_end',
+  'duration_s',
+  'points',
+  'alt_max_m',
+  'flight_t_start',
+  'flight_t_end',
+  'flight_duration_s',
+  'flight_points',
+] as const;
+export type FlightSort = (typeof FLIGHT_SORTS)[number];
+export type SortOrder = 'asc' | 'desc';
 
 export interface FlightPage {
   total: number;
   page: number;
   page_size: number;
+  sort?: FlightSort;
+  order?: SortOrder;
   flights: FlightRow[];
 }
 

@@ -10,6 +10,13 @@ import {
   timeToX,
   windowFromDrag,
   xToTime,
+  SECOND_GRID,
+  MIN_VIEW_SECONDS,
+  zoomView,
+  clampView,
+  nudgeStep,
+  parseIsoUtc,
+  formatIsoUtc,
 } from './brush';
 
 // One day in 15-minute bins, as the server answers for 2018-01-01.
@@ -93,5 +100,39 @@ describe('hit testing and bins', () => {
   it('treats a window over the whole domain as no window', () => {
     expect(coversDomain(domain, domain)).toBe(true);
     expect(coversDomain({ start: T0, end: T0 + 900 }, domain)).toBe(false);
+  });
+});
+
+describe('zoomable axis, second resolution and typed times', () => {
+  const dom = { start: T0, end: T0 + 86400 };
+  it('a drag on the second grid keeps its seconds (no snapping to bins)', () => {
+    expect(windowFromDrag(T0 + 3600.4, T0 + 4200.6, dom, SECOND_GRID)).toEqual({ start: T0 + 3600, end: T0 + 4201 });
+    expect(resizeWindow({ start: T0 + 10, end: T0 + 20 }, 'end', T0 + 612, dom, SECOND_GRID)).toEqual({ start: T0 + 10, end: T0 + 612 });
+  });
+  it('zooms about a time that keeps its place, within the domain and down to MIN_VIEW_SECONDS', () => {
+    const v = zoomView(dom, dom, T0 + 43200, 4);
+    expect(v).toEqual({ start: T0 + 43200 - 10800, end: T0 + 43200 + 10800 });
+    // at stays at the same fraction of the view
+    const w = zoomView(dom, dom, T0 + 21600, 2);
+    expect((T0 + 21600 - w.start) / (w.end - w.start)).toBeCloseTo(0.25, 12);
+    expect(zoomView(dom, dom, T0 + 100, 1e9).end - zoomView(dom, dom, T0 + 100, 1e9).start).toBe(MIN_VIEW_SECONDS);
+    expect(zoomView(v, dom, T0, 1e-6)).toEqual(dom);
+    expect(clampView({ start: T0 - 50, end: T0 + 50 }, dom)).toEqual({ start: T0, end: T0 + 100 });
+  });
+  it('nudges by a round step about 1/100 of the view', () => {
+    expect(nudgeStep(dom)).toBe(300);
+    expect(nudgeStep({ start: 0, end: 600 })).toBe(5);
+    expect(nudgeStep({ start: 0, end: 60 })).toBe(1);
+  });
+  it('parses ISO 8601, UTC without a zone, offsets, and refuses impossible dates', () => {
+    expect(parseIsoUtc('2018-01-01T00:00:00Z')).toBe(T0);
+    expect(parseIsoUtc('2018-01-01 10:15')).toBe(T0 + 36900);
+    expect(parseIsoUtc('2018-01-01T11:15:30+01:00')).toBe(T0 + 36930);
+    expect(parseIsoUtc('2018-01-01')).toBe(T0);
+    expect(parseIsoUtc('2018-02-30T00:00Z')).toBeNull();
+    expect(parseIsoUtc('2018-01-01T24:00')).toBeNull();
+    expect(parseIsoUtc('yesterday')).toBeNull();
+    expect(formatIsoUtc(T0 + 36930)).toBe('2018-01-01T10:15:30Z');
+    expect(parseIsoUtc(formatIsoUtc(T0 + 12345))).toBe(T0 + 12345);
   });
 });

@@ -110,3 +110,69 @@ export function binInWindow(i: number, g: BinGrid, w: Span): boolean {
 export function coversDomain(w: Span, d: Span): boolean {
   return w.start <= d.start && w.end >= d.end;
 }
+
+/**
+ * The brush's resolution: whole seconds (the API's t0/t1 are integer seconds), whatever the histogram's
+ * bins. A selection is never snapped to bins.
+ */
+export const SECOND_GRID: BinGrid = { origin: 0, step: 1 };
+
+/** The narrowest time view the axis zooms to (seconds): a few pixels per second on any plot. */
+export const MIN_VIEW_SECONDS = 30;
+
+/**
+ * The view after zooming by `factor` (> 1 zooms in) about time `at`: `at` keeps its place on screen, the
+ * view never gets narrower than `minSpan` nor leaves the domain (a view wider than it becomes it).
+ */
+export function zoomView(view: Span, domain: Span, at: number, factor: number, minSpan = MIN_VIEW_SECONDS): Span {
+  const full = domain.end - domain.start;
+  const span = Math.min(full, Math.max(Math.min(minSpan, full), (view.end - view.start) / factor));
+  const f = view.end > view.start ? (at - view.start) / (view.end - view.start) : 0.5;
+  return clampView({ start: at - f * span, end: at - f * span + span }, domain);
+}
+
+/** Shifts a view inside the domain, keeping its width (at most the domain's). */
+export function clampView(v: Span, domain: Span): Span {
+  const span = Math.min(v.end - v.start, domain.end - domain.start);
+  const start = clamp(v.start, domain.start, domain.end - span);
+  return { start, end: start + span };
+}
+
+const NUDGE_STEPS = [1, 5, 10, 30, 60, 300, 900, 3600, 10800, 21600, 86400];
+
+/** The keyboard nudge for a view (seconds): the largest round step at most 1/100 of it, at least 1 s. */
+export function nudgeStep(view: Span): number {
+  const want = (view.end - view.start) / 100;
+  let step = 1;
+  for (const s of NUDGE_STEPS) if (s <= want) step = s;
+  return step;
+}
+
+const ISO_RE = /^(\d{4})-(\d{2})-(\d{2})(?:[T ](\d{2}):(\d{2})(?::(\d{2})(?:\.(\d+))?)?)?\s*(Z|[+-]\d{2}:?\d{2})?$/i;
+
+/**
+ * An ISO 8601 date-time ("2018-01-01T10:15:30Z", "2018-01-01 10:15", "2018-01-01T11:15+01:00",
+ * "2018-01-01") as Unix seconds; no zone means UTC, as every time on the dashboard is. Null when the text
+ * is not one, or names an impossible date or time (2018-02-30, 24:00).
+ */
+export function parseIsoUtc(text: string): number | null {
+  const m = ISO_RE.exec(text.trim());
+  if (!m) return null;
+  const [y, mo, d, hh = '0', mi = '0', ss = '0', frac, zone] = m.slice(1) as (string | undefined)[];
+  const Y = Number(y), M = Number(mo), D = Number(d), H = Number(hh), Mi = Number(mi), S = Number(ss);
+  if (M < 1 || M > 12 || D < 1 || H > 23 || Mi > 59 || S > 59) return null;
+  const ms = Date.UTC(Y, M - 1, D, H, Mi, S);
+  if (new Date(ms).getUTCDate() !== D) return null;
+  let t = ms / 1000 + (frac ? Number(`0.${frac}`) : 0);
+  if (zone && zone.toUpperCase() !== 'Z') {
+    const z = /^([+-])(\d{2}):?(\d{2})$/.exec(zone)!;
+    const off = (Number(z[2]) * 60 + Number(z[3])) * 60;
+    t -= z[1] === '+' ? off : -off;
+  }
+  return t;
+}
+
+/** Unix seconds as ISO 8601 UTC to the second: "2018-01-01T10:15:30Z". */
+export function formatIsoUtc(t: number): string {
+  return new Date(Math.round(t) * 1000).toISOString().replace(/\.\d{3}Z$/, 'Z');
+}

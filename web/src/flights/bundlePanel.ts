@@ -3,10 +3,12 @@
 // raw/bundled toggle with a relaxation slider that blends on the client (no recomputation).
 
 import { ApiError, api, bundleTileTemplate, isAbort } from '../api/client';
-import { buildQuery } from '../api/query';
+import { buildQuery, validateFilters } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { blendSource, decodeTsbl } from './tsbl';
+import { cubuRainbow, kmPerMercatorDegree, linearTicks, renderLegend, type LegendSpec } from '../lib/legend';
+import { formatInt } from '../lib/format';
 import type { BundleOverlay } from './bundleOverlay';
 import type { Store } from './state';
 import type { ErrorSlots } from './errors';
@@ -30,7 +32,14 @@ export class BundlePanel {
   private readonly sliderValue: HTMLElement;
   private readonly modeInputs: Record<Mode, HTMLInputElement>;
   private job: Job | null = null;
+  /** The inputs (data set, filters without the view box, parameters) the current bundle was made from. */
+  private madeFrom: string | null = null;
+  private readonly staleBox: HTMLElement;
+  private readonly legendBox: HTMLElement;
+  /** The bundle legend shown (the PNG export draws it in bundled mode). */
+  legendSpec: LegendSpec | null = null;
   private pendingBundle: string | null = null;
+  private pendingInputs: string | null = null;
   private bundle: Bundle | null = null;
   private mode: Mode = 'raw';
   private relaxation = 0;
@@ -77,6 +86,7 @@ export class BundlePanel {
       this.overlay.setRelaxation(this.relaxation);
       this.applyTilesSoon();
     });
+    this.legendBox = h('div', { class: 'bundle-legend' });
     this.viewBox = h(
       'div',
       { class: 'bundle-view', hidden: true },
@@ -88,6 +98,16 @@ export class BundlePanel {
       ),
       h('label', { class: 'field-label', for: 'bundle-relaxation' }, 'Relaxation', h('span', { class: 'hint' }, 'bundled → raw'), this.sliderValue),
       this.slider,
+      this.legendBox,
+    );
+    const recompute = h('button', { type: 'button', class: 'link-button', 'data-testid': 'bundle-recompute' }, 'Recompute');
+    recompute.addEventListener('click', () => void this.start());
+    this.staleBox = h(
+      'div',
+      { class: 'stale-line', 'data-testid': 'bundle-stale', hidden: true, role: 'status' },
+      h('span', { class: 'stale-mark' }, 'stale'),
+      h('span', { class: 'small muted' }, ' the time window, filters or parameters changed since this bundle was made '),
+      recompute,
     );
     const errorSlot = h('div', { id: 'bundle-error' });
     root.append(
@@ -95,6 +115,7 @@ export class BundlePanel {
       this.paramsBox,
       h('div', { class: 'bundle-actions' }, this.startBtn),
       errorSlot,
+      this.staleBox,
       this.status,
       this.result,
       this.viewBox,
@@ -104,6 +125,7 @@ export class BundlePanel {
     store.subscribe((s, prev) => {
       if (s.datasetId !== prev.datasetId) this.reset();
       this.startBtn.disabled = !this.canStart();
+      this.syncStale();
     });
   }
 
@@ -133,6 +155,8 @@ export class BundlePanel {
     } else {
       el = h('input', { id, type: 'text', inputmode: 'decimal', placeholder: info.default, autocomplete: 'off', 'data-param': info.name, 'data-testid': id });
     }
+    el.addEventListener('input', () => this.syncStale());
+    el.addEventListener('change', () => this.syncStale());
     const err = h('div', { id: `${id}-error` });
     this.errors.register([info.name], err);
     this.inputs.set(info.name, { info, el });
@@ -155,6 +179,20 @@ export class BundlePanel {
     return out;
   }
 
+  /** What a bundle started now would be made from (the view box aside: panning shows, not changes, it). */
+  private inputsKey(): string {
+    const d = this.store.dataset();
+    const f = { ...this.store.effectiveFilters(), bbox: null };
+    return `${d?.id ?? ''}?${buildQuery(f).toString()}#${JSON.stringify(this.params())}`;
+  }
+
+  /** Marks the shown bundle stale once its inputs differ from the dashboard's (one click recomputes). */
+  private syncStale() {
+    const stale = this.madeFrom !== null && this.bundle !== null && this.madeFrom !== this.inputsKey();
+    this.staleBox.hidden = !stale;
+    this.root.dataset.stale = String(stale);
+  }
+
   private canStart(): boolean {
     return this.inputs.size > 0 && this.store.dataset() !== null && !(this.job && !FINISHED.has(this.job.state));
   }
@@ -165,10 +203,18 @@ export class BundlePanel {
     // The window as the dashboard shows it, in the view's extent: bundling happens in the view's pixels.
     const s = this.store.get();
     const filters = { ...this.store.effectiveFilters(), bbox: s.mapBBox ?? this.store.effectiveFilters().bbox };
+    const problem = validateFilters(filters);
+    if (problem) {
+      // Never sent: the filter's own inline error already says what to fix.
+      this.errors.show('bundle', new ApiError(400, { error: 'invalid_argument', ...problem }));
+      return;
+    }
     this.errors.clear('bundle');
     this.startBtn.disabled = true;
+    const made = this.inputsKey();
     try {
       const accepted = await api.startBundle(d.id, buildQuery(filters), this.params());
+      this.pendingInputs = made;
       this.pendingBundle = accepted.bundle;
       this.job = null;
       this.update(accepted.job, true);
@@ -215,7 +261,11 @@ export class BundlePanel {
     try {
       const [meta, buf] = await Promise.all([api.bundle(id, ctrl.signal), api.bundlePolylines(id, ctrl.signal)]);
       this.bundle = meta;
-      this.overlay.setSource(blendSource(decodeTsbl(buf)));
+      this.madeFrom = this.pendingInputs;
+      this.syncStale();
+      const tsbl = decodeTsbl(buf);
+      this.overlay.setSource(blendSource(tsbl));
+      this.showLegend(tsbl.length);
       this.showResult(meta);
       this.root.dataset.bundle = meta.id;
       this.viewBox.hidden = false;
@@ -224,6 +274,40 @@ export class BundlePanel {
       if (isAbort(e)) return;
       mount(this.result, h('p', { class: 'error-text small' }, e instanceof ApiError ? e.detail : String(e)));
     }
+  }
+
+  /**
+   * The bundle tiles' colour legend (colour by length, the tiles' default): CUBu's rainbow from the
+   * shortest to the longest trail of the bundle, in km (TSBL lengths are Mercator degrees: scaled at the
+   * view's latitude, hence "≈").
+   */
+  private showLegend(lengths: ArrayLike<number>) {
+    let lo = Infinity;
+    let hi = -Infinity;
+    for (let i = 0; i < lengths.length; i++) {
+      const v = lengths[i]!;
+      if (Number.isFinite(v)) {
+        lo = Math.min(lo, v);
+        hi = Math.max(hi, v);
+      }
+    }
+    if (!(hi >= lo)) {
+      this.legendSpec = null;
+      mount(this.legendBox);
+      return;
+    }
+    const k = kmPerMercatorDegree(this.map.map.getCenter().lat);
+    this.legendSpec = {
+      title: 'Bundle colour: trail length (km)',
+      stops: Array.from({ length: 11 }, (_, i) => cubuRainbow(i / 10)),
+      ticks: linearTicks(lo * k, hi * k, 4, (v) => `≈${formatInt(v)}`),
+      width: 200,
+      testid: 'bundle-legend',
+      note: 'shortest → longest trail of this bundle',
+    };
+    renderLegend(this.legendBox, this.legendSpec);
+    this.legendBox.dataset.loKm = String(lo * k);
+    this.legendBox.dataset.hiKm = String(hi * k);
   }
 
   private showResult(b: Bundle) {
@@ -260,6 +344,8 @@ export class BundlePanel {
     this.bundle = null;
     this.job = null;
     this.pendingBundle = null;
+    this.madeFrom = this.pendingInputs = null;
+    this.syncStale();
     this.overlay.setSource(null);
     this.root.dataset.state = 'idle';
     delete this.root.dataset.bundle;

@@ -3,7 +3,6 @@
 import { COLORMAPS, DENSITY_HOWS, DENSITY_VALUES, EMPTY_FILTERS, normalizeBBox, type OnGround } from '../api/query';
 import type { Colormap, Dataset, DensityHow, DensityValue } from '../api/types';
 import type { AppState, Store } from './state';
-import { COLORMAP_STOPS, cssGradient } from '../lib/colors';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { formatCompact, formatInt, formatUtc } from '../lib/format';
 import type { ErrorSlots } from './errors';
@@ -190,15 +189,8 @@ export class Controls {
       this.value.value = s.render.value;
       this.how.value = s.render.how;
       this.cmap.value = s.render.cmap;
-      const stops = COLORMAP_STOPS[s.render.cmap];
-      const low = s.render.value === 'count' ? 'few' : 'low';
-      const high = s.render.value === 'count' ? 'many points' : s.render.value === 'altitude' ? 'high' : 'fast';
-      mount(
-        this.legend,
-        h('span', { class: 'legend-label' }, low),
-        h('span', { class: 'legend-bar', style: `background:${cssGradient(stops)}`, role: 'img', 'aria-label': `${CMAP_LABELS[s.render.cmap]} colour scale, ${HOW_LABELS[s.render.how]}` }),
-        h('span', { class: 'legend-label' }, high),
-      );
+      // The legend that reads values sits on the map (densityLegend.ts): it needs the zoom's span.
+      mount(this.legend, h('span', { class: 'hint' }, `${CMAP_LABELS[s.render.cmap]}, ${HOW_LABELS[s.render.how]}: values in the legend on the map`));
     }
   }
 
@@ -229,6 +221,25 @@ function datasetMeta(d: Dataset): HTMLElement {
     `${d.format} · ${formatInt(d.flights)} flights · ${formatCompact(d.points)} points`,
     h('br'),
     `${formatUtc(d.t_min)} → ${formatUtc(d.t_max)} UTC`,
+    ingestQuality(d),
+  );
+}
+
+/** The ingest report's data-quality line: implausible values found and flights split at impossible jumps. */
+function ingestQuality(d: Dataset): HTMLElement | null {
+  const q = (d.ingest as { quality?: Record<string, { count?: number } | undefined> } | undefined)?.quality;
+  if (!q) return null;
+  const n = (k: string) => q[k]?.count ?? 0;
+  const parts = [
+    [n('speed'), 'speeds'],
+    [n('altitude'), 'altitudes'],
+    [n('jumps'), 'jumps'],
+    [n('jump_splits'), 'split at jumps'],
+  ].filter(([c]) => (c as number) > 0);
+  return h(
+    'div',
+    { class: 'hint', 'data-testid': 'dataset-quality', 'data-speed': String(n('speed')), 'data-altitude': String(n('altitude')), 'data-jumps': String(n('jumps')), 'data-splits': String(n('jump_splits')) },
+    parts.length ? `Ingest flagged: ${parts.map(([c, l]) => `${formatInt(c as number)} ${l}`).join(' · ')}` : 'Ingest: no implausible values',
   );
 }
 

@@ -1,7 +1,8 @@
 // The info card of the selected flight, over the map.
 
 import type { FlightFeature, FlightRow } from '../api/types';
-import { ALTITUDE_STOPS_FT, cssGradient } from '../lib/colors';
+import { renderLegend, linearTicks } from '../lib/legend';
+import { ALTITUDE_STOPS_FT } from '../lib/colors';
 import { h, mount } from '../lib/dom';
 import { formatAltitude, formatDuration, formatFlightLevel, formatInt, formatSpeed, formatUtcSeconds } from '../lib/format';
 
@@ -46,7 +47,7 @@ export class FlightCard {
     const add = (k: string, v: string, testid?: string) => dl.append(h('dt', {}, k), h('dd', { 'data-testid': testid }, v));
     add('First seen', `${formatUtcSeconds(t0)} UTC`, 'card-t-start');
     add('Last seen', `${formatUtcSeconds(t1)} UTC`, 'card-t-end');
-    add('Duration', formatDuration(t1 - t0));
+    add('Duration (whole flight)', formatDuration(t1 - t0), 'card-duration');
     add('Max altitude', `${formatAltitude(maxAlt)} (${formatFlightLevel(maxAlt)})`, 'card-alt-max');
     if (maxSpeed !== null) add('Max speed', formatSpeed(maxSpeed));
     add('Points', formatInt(f.geometry.coordinates.length));
@@ -54,13 +55,7 @@ export class FlightCard {
       this.el,
       this.header(p.callsign || row.callsign, p.icao24 || row.icao24),
       dl,
-      h(
-        'div',
-        { class: 'legend', 'aria-label': 'Track colour: altitude' },
-        h('span', { class: 'legend-label' }, '0'),
-        h('span', { class: 'legend-bar', style: `background:${cssGradient(ALTITUDE_STOPS_FT.map(([, c]) => c))}` }),
-        h('span', { class: 'legend-label' }, `${formatInt(ALTITUDE_STOPS_FT[ALTITUDE_STOPS_FT.length - 1]![0] / 1000)}k ft`),
-      ),
+      altitudeLegend(),
     );
   }
 
@@ -73,4 +68,18 @@ export class FlightCard {
       h('button', { type: 'button', class: 'icon-button', 'aria-label': 'Close flight', title: 'Close (Esc)', onclick: () => this.onClose() }, '×'),
     );
   }
+}
+
+/** The track's altitude ramp (ALTITUDE_STOPS_FT) as a legend with flight-level ticks. */
+function altitudeLegend(): HTMLElement {
+  const el = h('div', { class: 'card-legend' });
+  const top = ALTITUDE_STOPS_FT[ALTITUDE_STOPS_FT.length - 1]![0];
+  renderLegend(el, {
+    title: 'Track colour: altitude',
+    stops: ALTITUDE_STOPS_FT.map(([, c]) => c),
+    ticks: linearTicks(0, top, 4, (ft) => (ft === 0 ? 'GND' : `FL${String(Math.round(ft / 100)).padStart(3, '0')}`)),
+    width: 200,
+    testid: 'altitude-legend',
+  });
+  return el;
 }

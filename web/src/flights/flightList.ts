@@ -1,13 +1,27 @@
-// The paged flight list. A row click selects the flight (flightsView.ts loads and draws its track).
+// The paged flight list, sorted on the server by any column (a header click; again reverses). Start, the
+// first duration and the highest level are "in window": they cover only the flight's points passing the
+// time window and filters; the second duration is the whole flight's. A row click selects the flight
+// (flightsView.ts loads and draws its track).
 
-import type { FlightPage, FlightRow } from '../api/types';
+import type { FlightPage, FlightRow, FlightSort, SortOrder } from '../api/types';
 import { h, mount, sectionHead } from '../lib/dom';
 import { formatFlightLevel, formatHoursMinutes, formatInt, formatUtc, formatUtcTime } from '../lib/format';
 
 export interface FlightListEvents {
   onPage(page: number): void;
   onSelect(row: FlightRow): void;
+  /** A header asked for another order (the page goes back to the first). */
+  onSort(sort: FlightSort, order: SortOrder): void;
 }
+
+/** The list's columns: label, sort key, tooltip, and whether it is a number (right-aligned). */
+const COLUMNS: { label: string; sort: FlightSort; title: string; num: boolean }[] = [
+  { label: 'Callsign', sort: 'callsign', title: 'Callsign (ICAO24 in the row tooltip)', num: false },
+  { label: 'Start', sort: 't_start', title: 'In window: first point passing the window and filters (UTC)', num: false },
+  { label: 'In win.', sort: 'duration_s', title: 'In window: time between the first and last point passing the window and filters (h:mm)', num: true },
+  { label: 'Flight', sort: 'flight_duration_s', title: 'Whole flight: first to last point, whatever the filters (h:mm)', num: true },
+  { label: 'Max', sort: 'alt_max_m', title: 'In window: highest flight level of the points passing the filters', num: true },
+];
 
 export class FlightList {
   private readonly list: HTMLElement;
@@ -15,23 +29,28 @@ export class FlightList {
   private readonly pager: HTMLElement;
   private selected: number | null = null;
   private multiDay = false;
+  private sort: FlightSort = 't_start';
+  private order: SortOrder = 'asc';
+  private readonly head: HTMLElement;
 
   constructor(private readonly root: HTMLElement, private readonly events: FlightListEvents) {
     this.count = h('span', { class: 'section-meta', 'data-testid': 'flights-total', 'aria-live': 'polite' });
     this.pager = h('div', { class: 'pager' });
     this.list = h('ol', { class: 'flight-list', 'data-testid': 'flight-list', 'aria-label': 'Flights' });
     this.list.addEventListener('keydown', (e) => this.onKey(e));
+    this.head = h('div', { class: 'flight-head', role: 'row', 'data-testid': 'flight-head' });
+    this.renderHead();
     root.append(
       sectionHead('Flights', this.count),
       h(
         'div',
-        { class: 'flight-head', 'aria-hidden': 'true' },
-        h('span', {}, 'Callsign'),
-        h('span', {}, 'ICAO24'),
-        h('span', {}, 'Start (UTC)'),
-        h('span', { class: 'num', title: 'Duration (h:mm)' }, 'Dur.'),
-        h('span', { class: 'num', title: 'Highest flight level' }, 'Max'),
+        { class: 'flight-groups', 'aria-hidden': 'true' },
+        h('span', {}, ''),
+        h('span', { class: 'grp' }, 'in window'),
+        h('span', { class: 'grp whole' }, 'whole'),
+        h('span', { class: 'grp' }, 'in win.'),
       ),
+      this.head,
       this.list,
       this.pager,
     );
@@ -58,6 +77,38 @@ export class FlightList {
     this.count.textContent = '';
     mount(this.list, h('li', { class: state === 'error' ? 'empty error-text' : 'empty' }, message));
     mount(this.pager);
+  }
+
+  /** The order shown (from the URL or the server's answer); does not emit. */
+  setSort(sort: FlightSort, order: SortOrder): void {
+    this.sort = sort;
+    this.order = order;
+    this.renderHead();
+  }
+
+  private renderHead() {
+    this.root.dataset.sort = this.sort;
+    this.root.dataset.order = this.order;
+    mount(
+      this.head,
+      ...COLUMNS.map((c) => {
+        const on = c.sort === this.sort;
+        const b = h(
+          'button',
+          {
+            type: 'button',
+            class: `flight-sort${c.num ? ' num' : ''}${on ? ' on' : ''}`,
+            title: `${c.title} · click to sort${on ? ', again to reverse' : ''}`,
+            'aria-sort': on ? (this.order === 'asc' ? 'ascending' : 'descending') : 'none',
+            'data-testid': `flight-sort-${c.sort}`,
+            onclick: () => this.events.onSort(c.sort, on && this.order === 'asc' ? 'desc' : 'asc'),
+          },
+          c.label,
+          on ? (this.order === 'asc' ? ' ▲' : ' ▼') : '',
+        );
+        return b;
+      }),
+    );
   }
 
   /** Whether start times need their date (the data set spans more than one UTC day). */
@@ -96,14 +147,14 @@ export class FlightList {
         'data-flight-id': String(f.id),
         'data-testid': 'flight-row',
         'aria-pressed': String(on),
-        title: `${f.callsign || f.icao24} · ${formatUtc(f.t_start)} → ${formatUtc(f.t_end)} UTC · ${formatInt(f.points)} points`,
+        title: rowTitle(f),
         onclick: () => this.events.onSelect(f),
       },
       h('span', { class: 'mono cs' }, f.callsign || '—'),
-      h('span', { class: 'mono muted' }, f.icao24 || '—'),
-      h('span', { class: 'mono' }, this.multiDay ? `${formatUtc(f.t_start).slice(5, 10)} ${formatUtcTime(f.t_start)}` : formatUtcTime(f.t_start)),
-      h('span', { class: 'num' }, formatHoursMinutes(f.t_end - f.t_start)),
-      h('span', { class: 'num' }, formatFlightLevel(f.alt_max_m)),
+      h('span', { class: 'mono', 'data-col': 't_start' }, this.multiDay ? `${formatUtc(f.t_start).slice(5, 10)} ${formatUtcTime(f.t_start)}` : formatUtcTime(f.t_start)),
+      h('span', { class: 'num', 'data-col': 'duration_s' }, formatHoursMinutes(f.duration_s ?? f.t_end - f.t_start)),
+      h('span', { class: 'num whole', 'data-col': 'flight_duration_s' }, f.flight_duration_s === undefined ? '–' : formatHoursMinutes(f.flight_duration_s)),
+      h('span', { class: 'num', 'data-col': 'alt_max_m' }, formatFlightLevel(f.alt_max_m)),
     );
   }
 
@@ -130,4 +181,15 @@ export class FlightList {
       next.focus();
     }
   }
+}
+
+/** A row's tooltip: who, the part in the window and the whole flight. */
+function rowTitle(f: FlightRow): string {
+  const who = `${f.callsign || '—'} (${f.icao24 || 'no ICAO24'})`;
+  const win = `in window ${formatUtc(f.t_start)} → ${formatUtc(f.t_end)} UTC, ${formatInt(f.points)} points`;
+  const whole =
+    f.flight_t_start !== undefined && f.flight_t_end !== undefined
+      ? ` · whole flight ${formatUtc(f.flight_t_start)} → ${formatUtc(f.flight_t_end)} UTC${f.flight_points !== undefined ? `, ${formatInt(f.flight_points)} points` : ''}`
+      : '';
+  return `${who} · ${win}${whole}`;
 }

@@ -3,7 +3,7 @@
 import { ApiError, api, isAbort } from '../api/client';
 import { buildQuery, densityTileTemplate, parseFilters, parseRender, validateFilters } from '../api/query';
 import { JobSocket } from '../api/socket';
-import type { Dataset, FlightRow, Job, Summary } from '../api/types';
+import { FLIGHT_SORTS, type Dataset, type FlightRow, type FlightSort, type Job, type SortOrder, type Summary } from '../api/types';
 import { byId, debounce, h } from '../lib/dom';
 import { Store, type AppState } from './state';
 import { Controls } from './controls';
@@ -16,6 +16,10 @@ import { FlowPanel } from './flow/flowPanel';
 import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
 import { SummaryView } from './summary';
+import { DensityLegend } from './densityLegend';
+import { Picking } from './picking';
+import { download, mapPng } from './exportPng';
+import { formatUtcSeconds } from '../lib/format';
 import { TimeBrush } from './timeBrush';
 import { Clock, parsePlayback, writePlayback } from './clock';
 import { COLOR_BYS, PlaybackView } from './playback';
@@ -27,6 +31,8 @@ import { CongestionPanel } from './congestion/congestionPanel';
 
 const SUMMARY_BINS = 96;
 const PAGE_SIZE = 50;
+/** The server's largest export (limits kMaxExportPoints): the links are disabled beyond it. */
+const MAX_EXPORT_POINTS = 10_000_000;
 
 /** Latest-wins request channel: starting a new request aborts the previous one. */
 class Channel {
@@ -46,6 +52,11 @@ interface HashState {
   datasetId: string | null;
   view: { lng: number; lat: number; zoom: number } | null;
   flight: number | null;
+  /** The flight list's order and page (`fsort`, `forder`, `fpage`). */
+  flightSort: { sort: FlightSort; order: SortOrder };
+  flightPage: number | null;
+  /** The time axis's zoomed view (`tview=start,end`), null for the whole data set. */
+  timeView: { start: number; end: number } | null;
   /** The playback instant (`at`: the playback view is open), speed, tail and colour-by. */
   playback: ReturnType<typeof parsePlayback> & { colorBy: ColorBy };
 }
@@ -58,12 +69,19 @@ function readHash(): { state: Partial<AppState>; extra: HashState } {
   const view = q.get('view')?.split(',').map(Number);
   const flight = Number(q.get('flight'));
   const color = q.get('color');
+  const tview = q.get('tview')?.split(',').map(Number);
   return {
     state: { filters, render: parseRender(q), useMapView },
     extra: {
       datasetId: q.get('dataset'),
       view: view && view.length === 3 && view.every(Number.isFinite) ? { lng: view[0]!, lat: view[1]!, zoom: view[2]! } : null,
       flight: q.has('flight') && Number.isInteger(flight) ? flight : null,
+      flightSort: {
+        sort: FLIGHT_SORTS.find((c) => c === q.get('fsort')) ?? 't_start',
+        order: q.get('forder') === 'desc' ? 'desc' : 'asc',
+      },
+      flightPage: /^\d+$/.test(q.get('fpage') ?? '') ? Number(q.get('fpage')) : null,
+      timeView: tview && tview.length === 2 && tview.every(Number.isFinite) && tview[1]! > tview[0]! ? { start: tview[0]!, end: tview[1]! } : null,
       playback: { ...parsePlayback(q), colorBy: COLOR_BYS.find((c) => c === color) ?? 'altitude' },
     },
   };
@@ -79,6 +97,11 @@ export class FlightsView {
   private readonly card: FlightCard;
   private readonly jobs: JobsView;
   private readonly bundles: BundlePanel;
+  private readonly legend: DensityLegend;
+  private readonly exportBar: HTMLElement;
+  private readonly exportLinks: Record<'geojson' | 'csv' | 'summaryJson' | 'summaryCsv', HTMLAnchorElement>;
+  /** The last query the server accepted (tiles and the legend follow it), without bbox. */
+  private acceptedQuery: URLSearchParams | null = null;
   /** The one time cursor of the dashboard (clock.ts): playback, the histogram's cursor and every time layer. */
   readonly clock: Clock;
   private readonly playback: PlaybackView;
@@ -91,6 +114,11 @@ export class FlightsView {
   private histKey = '';
   private flightsKey = '';
   private flightPage = 0;
+  /** The flight list's order (`fsort`, `forder` in the hash) and a page from the hash, used once. */
+  private flightSort: { sort: FlightSort; order: SortOrder } = { sort: 't_start', order: 'asc' };
+  private initialPage: number | null = null;
+  /** Matching points of the last accepted summary (null before one). */
+  private lastPoints: number | null = null;
   private initialView: HashState['view'];
   private initialFlight: number | null;
   private readonly scheduleRefresh = debounce(() => this.refresh(), 60);
@@ -101,26 +129,51 @@ export class FlightsView {
     this.store = new Store(state);
     this.initialView = extra.view;
     this.initialFlight = extra.flight;
+    this.flightSort = extra.flightSort;
+    this.initialPage = extra.flightPage;
     this.errors = new ErrorSlots(byId('banner'));
 
     this.map = new MapView(byId('map'), {
       onViewChange: (bbox) => {
         this.store.set({ mapBBox: bbox });
+        this.updateLegend();
         this.writeHash();
       },
       onTileError: (err) => this.errors.show('tiles', err),
       onTilesOk: () => this.errors.clear('tiles'),
     });
+    this.legend = new DensityLegend(byId('map-area'));
+    this.exportBar = h('div', { class: 'map-tools', role: 'toolbar', 'aria-label': 'Export' });
+    const pngBtn = h('button', { type: 'button', class: 'btn btn-small', 'data-testid': 'export-png', title: 'The map view with its legend as PNG' }, 'PNG');
+    pngBtn.addEventListener('click', () => void this.exportPng());
+    // The window's flights (GeoJSON, CSV: streamed by the server) and the summary (JSON, CSV): links the
+    // browser downloads itself, pointed at the query the server last accepted.
+    const link = (testid: string, label: string, title: string) =>
+      h('a', { class: 'btn btn-small', 'data-testid': testid, title, 'aria-disabled': 'true' }, label);
+    this.exportLinks = {
+      geojson: link('export-geojson', 'GeoJSON', "The window's flights, their matching points only (GeoJSON FeatureCollection)"),
+      csv: link('export-csv', 'CSV', "The window's points, one row per point (CSV)"),
+      summaryJson: link('export-summary-json', 'Summary JSON', 'The summary of the window (JSON)'),
+      summaryCsv: link('export-summary-csv', 'Summary CSV', 'The summary totals of the window (CSV)'),
+    };
+    this.exportBar.append(h('span', { class: 'small muted' }, 'Export'), pngBtn, ...Object.values(this.exportLinks));
+    byId('map-area').append(this.exportBar);
     this.clock = new Clock({ t: extra.playback.at ?? NaN, speed: extra.playback.speed });
 
     new Controls(byId('dataset-section'), byId('filter-section'), byId('render-section'), this.store, this.errors);
     this.summary = new SummaryView(byId('summary-section'), {
       onCallsign: (callsign) => this.store.setFilters({ callsign }),
+      onFlight: (id, callsign) => this.selectFlight({ id, icao24: '', callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
     });
     this.brush = new TimeBrush(byId('timeline'), {
       onWindow: (w) => this.store.setFilters({ t0: w?.start ?? null, t1: w?.end ?? null }),
       onCursor: (t) => this.clock.seek(t),
+      onView: () => {
+        this.syncHistogram();
+        this.writeHash();
+      },
     });
+    if (extra.timeView) this.brush.setView(extra.timeView);
     const timeError = h('div', { id: 'time-error' });
     byId('timeline').querySelector('.brush-head')!.append(timeError);
     this.errors.register(['t0', 't1', 'bins'], timeError);
@@ -131,7 +184,15 @@ export class FlightsView {
         this.loadFlights();
       },
       onSelect: (row) => this.selectFlight(row),
+      onSort: (sort, order) => {
+        this.flightSort = { sort, order };
+        this.flights.setSort(sort, order);
+        this.flightPage = 0;
+        this.loadFlights();
+        this.writeHash();
+      },
     });
+    this.flights.setSort(this.flightSort.sort, this.flightSort.order);
     this.card = new FlightCard(byId('map-overlay'), () => this.store.set({ selectedFlight: null }));
     this.jobs = new JobsView(byId('jobs-section'), {
       onJobDone: (job, mine) => this.onJobDone(job, mine),
@@ -167,6 +228,16 @@ export class FlightsView {
       clock: this.clock,
       playbackOn: () => this.playback.isOn(),
       onSelectFlight: (id, callsign, icao24) => this.selectFlight({ id, icao24, callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
+    });
+    // Hover and click on the density map pick the flights drawn under the cursor (picking.ts).
+    new Picking(byId('map'), {
+      map: this.map.map,
+      target: () => {
+        const d = this.store.dataset();
+        return d && this.acceptedQuery ? { dataset: d.id, query: this.acceptedQuery } : null;
+      },
+      enabled: () => !this.playback.isOn() && this.map.map.getContainer().dataset.densityShown !== 'false',
+      onSelect: (f) => this.selectFlight({ id: f.id, icao24: f.icao24, callsign: f.callsign, t_start: NaN, t_end: NaN, points: 0, alt_max_m: NaN }),
     });
     const playback = this.playback;
     (window as unknown as { trailscope: unknown }).trailscope = {
@@ -288,6 +359,8 @@ export class FlightsView {
     this.summary.setEmpty(message);
     this.flights.setEmpty(message);
     this.brush.setMessage('empty', message);
+    this.acceptedQuery = null;
+    this.updateLegend();
     this.map.setDensity(null);
   }
 
@@ -334,26 +407,73 @@ export class FlightsView {
   private afterSummary(d: Dataset, summary?: Summary) {
     const s = this.store.get();
     const eff = this.store.effectiveFilters();
-    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, buildQuery(eff, { withoutBBox: true }), s.render));
+    this.acceptedQuery = buildQuery(eff, { withoutBBox: true });
+    this.updateExports(d, buildQuery(eff), summary);
+    this.map.setDensity(densityTileTemplate(window.location.origin, d.id, this.acceptedQuery, s.render));
+    this.updateLegend();
     const q = buildQuery(eff);
     const key = `${d.id}?${q.toString()}`;
-    const qNoTime = buildQuery(eff, { withoutTime: true });
-    const histKey = `${d.id}?${qNoTime.toString()}`;
-    if (histKey !== this.histKey) {
-      this.histKey = histKey;
-      // Without a time window the summary's own histogram is the brush's histogram.
-      if (summary && histKey === key) {
-        this.histCh.cancel();
-        this.brush.setData(summary.time_histogram, d.t_min, d.t_max);
-      } else {
-        void this.loadHistogram(d, qNoTime);
-      }
-    }
+    this.syncHistogram(summary);
     if (key !== this.flightsKey) {
       this.flightsKey = key;
-      this.flightPage = 0;
+      // A new query starts at the first page, except the page a shared link names (once).
+      this.flightPage = this.initialPage ?? 0;
+      this.initialPage = null;
       this.loadFlights();
     }
+  }
+
+  /** What the view shows, for exported files: data set, window (or all times) and shading. */
+  private caption(): string {
+    const s = this.store.get();
+    const w = spanOf(s);
+    const when = w ? `${formatUtcSeconds(w.start)} → ${formatUtcSeconds(w.end)} UTC` : 'all times';
+    return `${s.datasetId ?? ''} · ${when} · ${s.render.value}, ${s.render.how}, ${s.render.cmap}`;
+  }
+
+  /** A file name stem for exports: data set and window. */
+  private fileStem(): string {
+    const s = this.store.get();
+    const w = spanOf(s);
+    return `trailscope-${s.datasetId ?? 'map'}${w ? `-${Math.floor(w.start)}-${Math.ceil(w.end)}` : ''}`;
+  }
+
+  /** Points the export links at the accepted query (with the map-view box when on). */
+  private updateExports(d: Dataset, q: URLSearchParams, summary?: Summary) {
+    const base = `/api/v1/datasets/${encodeURIComponent(d.id)}`;
+    const stem = this.fileStem();
+    const set = (a: HTMLAnchorElement, path: string, extra: Record<string, string>, file: string, tooMany = false) => {
+      const p = new URLSearchParams(q);
+      for (const [k, v] of Object.entries(extra)) p.set(k, v);
+      if (tooMany) {
+        a.removeAttribute('href');
+        a.setAttribute('aria-disabled', 'true');
+        a.title = `The window holds more than ${MAX_EXPORT_POINTS.toLocaleString('en-US')} points: narrow the window or the filters.`;
+        return;
+      }
+      a.href = `${base}/${path}?${p.toString()}`;
+      a.download = file;
+      a.removeAttribute('aria-disabled');
+    };
+    const points = summary?.points ?? this.lastPoints;
+    if (summary) this.lastPoints = summary.points;
+    const tooMany = points !== null && points > MAX_EXPORT_POINTS;
+    set(this.exportLinks.geojson, 'export', { format: 'geojson' }, `${stem}.geojson`, tooMany);
+    set(this.exportLinks.csv, 'export', { format: 'csv' }, `${stem}.csv`, tooMany);
+    set(this.exportLinks.summaryJson, 'summary', { format: 'json', bins: String(SUMMARY_BINS) }, `${stem}-summary.json`);
+    set(this.exportLinks.summaryCsv, 'summary', { format: 'csv', table: 'totals' }, `${stem}-summary.csv`);
+  }
+
+  private async exportPng() {
+    const bundled = this.map.map.getContainer().dataset.densityShown === 'false';
+    const blob = await mapPng(this.map.map, bundled ? this.bundles.legendSpec : this.legend.spec, this.caption());
+    download(blob, `${this.fileStem()}.png`);
+  }
+
+  /** The density legend of the accepted query at the map's zoom. */
+  private updateLegend() {
+    const d = this.store.dataset();
+    this.legend.update(d?.id ?? null, d ? this.acceptedQuery : null, this.store.get().render, this.map.map.getZoom());
   }
 
   private async loadSummary(d: Dataset, q: URLSearchParams) {
@@ -370,6 +490,33 @@ export class FlightsView {
       const err = e instanceof ApiError ? e : new ApiError(0, { error: 'client', detail: String(e) });
       this.errors.show('query', err);
       this.summary.setError(err.param ? 'Fix the highlighted filter to update the view.' : err.detail);
+    }
+  }
+
+  /**
+   * The brush's histogram: of everything but time over the axis's view (the whole data set unless zoomed),
+   * asked for again when the filters or the view change.
+   */
+  private syncHistogram(summary?: Summary) {
+    const d = this.store.dataset();
+    if (!d || this.acceptedQuery === null) return;
+    const eff = this.store.effectiveFilters();
+    const key = `${d.id}?${buildQuery(eff).toString()}`;
+    const qHist = buildQuery(eff, { withoutTime: true });
+    const view = this.brush.getView();
+    if (view) {
+      qHist.set('t0', String(Math.floor(view.start)));
+      qHist.set('t1', String(Math.ceil(view.end)));
+    }
+    const histKey = `${d.id}?${qHist.toString()}`;
+    if (histKey === this.histKey) return;
+    this.histKey = histKey;
+    // Without a time window or zoom the summary's own histogram is the brush's histogram.
+    if (summary && histKey === key) {
+      this.histCh.cancel();
+      this.brush.setData(summary.time_histogram, d.t_min, d.t_max);
+    } else {
+      void this.loadHistogram(d, qHist);
     }
   }
 
@@ -393,9 +540,10 @@ export class FlightsView {
     const signal = this.flightsCh.next();
     this.flights.setLoading();
     api
-      .flights(d.id, q, this.flightPage, PAGE_SIZE, signal)
+      .flights(d.id, q, this.flightPage, PAGE_SIZE, signal, this.flightSort)
       .then((p) => {
         this.flights.set(p);
+        this.writeHash();
         this.flights.setSelected(this.store.get().selectedFlight);
         if (this.initialFlight !== null) {
           // A shared link names a flight that may sit on another page: open it anyway.
@@ -470,6 +618,13 @@ export class FlightsView {
     const c = this.map.map.getCenter();
     p.set('view', `${c.lng.toFixed(4)},${c.lat.toFixed(4)},${this.map.map.getZoom().toFixed(2)}`);
     if (s.selectedFlight !== null) p.set('flight', String(s.selectedFlight));
+    if (this.flightSort.sort !== 't_start' || this.flightSort.order !== 'asc') {
+      p.set('fsort', this.flightSort.sort);
+      p.set('forder', this.flightSort.order);
+    }
+    if (this.flightPage > 0) p.set('fpage', String(this.flightPage));
+    const tv = this.brush.getView();
+    if (tv) p.set('tview', `${Math.floor(tv.start)},${Math.ceil(tv.end)}`);
     const c0 = this.clock.get();
     writePlayback(p, { at: this.playback.isOn() ? c0.t : null, speed: c0.speed, tail: this.playback.tailSeconds() });
     if (this.playback.isOn()) p.set('color', this.playback.color());

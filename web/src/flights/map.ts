@@ -31,6 +31,8 @@ export class MapView {
   readonly map: maplibregl.Map;
   private readonly container: HTMLElement;
   private readonly status: HTMLElement;
+  /** Shown from a new density template until all its visible tiles have loaded (old tiles may still show). */
+  private readonly loading: HTMLElement;
   private template: string | null = null;
   private bundleTemplate: string | null = null;
   private densityShown = true;
@@ -58,6 +60,8 @@ export class MapView {
     this.map.addControl(new maplibregl.ScaleControl({ unit: 'nautical' }), 'bottom-right');
 
     this.status = h('div', { class: 'map-status', role: 'status', 'aria-live': 'polite', hidden: true });
+    this.loading = h('div', { class: 'map-loading', role: 'status', 'aria-live': 'polite', 'data-testid': 'map-loading', hidden: true }, h('span', { class: 'spinner' }), 'Loading tiles of the new view…');
+    container.append(this.loading);
     const coords = h('div', { class: 'map-coords', 'aria-hidden': 'true' });
     container.append(this.status, coords);
 
@@ -87,6 +91,11 @@ export class MapView {
       container.dataset.bounds = this.bounds().join(',');
       if (this.template && !this.tileErrorShown) this.events.onTilesOk();
     });
+    // The loading indicator goes once the new template's tiles are all in (or failed: the error shows).
+    this.map.on('sourcedata', (e) => {
+      if (e.sourceId === DENSITY && this.map.isSourceLoaded(DENSITY)) this.setLoading(false);
+    });
+    this.map.on('idle', () => this.setLoading(false));
     const busy = () => (container.dataset.idle = 'false');
     this.map.on('movestart', busy);
     this.map.on('dataloading', busy);
@@ -162,6 +171,7 @@ export class MapView {
     if (!this.template || (err?.url && !sameTemplate(err.url, this.template))) return;
     if (this.tileErrorShown) return;
     this.tileErrorShown = true;
+    this.setLoading(false);
     const status = err?.status ?? 0;
     const fallback = new ApiError(status, {
       error: status ? `http_${status}` : 'network',
@@ -183,12 +193,23 @@ export class MapView {
     this.status.classList.toggle('error', isError);
   }
 
-  /** Shows density tiles for a URL template (null hides the layer). Unchanged templates do nothing. */
+  private setLoading(on: boolean) {
+    if (on === !this.loading.hidden) return;
+    this.loading.hidden = !on;
+    this.container.dataset.loading = String(on);
+  }
+
+  /**
+   * Shows density tiles for a URL template (null hides the layer). Unchanged templates do nothing. Until
+   * every visible tile of the new template has loaded, the loading indicator says so: tiles of the old
+   * state may still be on screen beside new ones, and the analyst must not read them as one picture.
+   */
   setDensity(template: string | null): void {
     if (template === this.template) return;
     this.template = template;
     this.tileErrorShown = false;
     this.showStatus(null);
+    this.setLoading(template !== null);
     this.retarget(DENSITY, template);
   }
 

@@ -1,13 +1,15 @@
 // The summary panel: counts, time span, speed statistics, altitude histogram and top callsigns.
 
-import type { AltitudeHistogram, Summary } from '../api/types';
+import type { AltitudeHistogram, QualityExample, QualityReport, Summary } from '../api/types';
 import { h, mount, sectionHead, svg } from '../lib/dom';
 import { trimTail } from './histogram';
-import { formatCompact, formatDuration, formatInt, formatSpeed, formatUtc } from '../lib/format';
+import { FT_PER_M, KT_PER_MS, formatCompact, formatDuration, formatInt, formatSpeed, formatUtc } from '../lib/format';
 
 export interface SummaryEvents {
   /** The analyst clicked a top callsign: filter by it. */
   onCallsign(callsign: string): void;
+  /** The analyst clicked an example of an implausible value: show that flight. */
+  onFlight?(id: number, callsign: string): void;
 }
 
 function stat(testid: string, label: string, value: string, raw: number | null, title?: string) {
@@ -126,6 +128,47 @@ export class SummaryView {
       altitudeChart(s.altitude_histogram),
       h('h3', { class: 'sub-title' }, 'Top callsigns'),
       this.topCallsigns(s),
+      s.quality ? this.quality(s.quality) : null,
+    );
+  }
+
+  /** Data quality: counts of physically implausible values, with the largest examples (click: the flight). */
+  private quality(q: QualityReport): HTMLElement {
+    const kt = (ms: number) => `${formatInt(ms * KT_PER_MS)} kt`;
+    const fl = (m: number) => `FL${formatInt(Math.round((m * FT_PER_M) / 100))}`;
+    const kinds: [keyof Pick<QualityReport, 'speed' | 'altitude' | 'jumps'>, string, (e: QualityExample) => string][] = [
+      ['speed', `ground speed above ${q.limits?.speed_kt ?? 800} kt`, (e) => kt(e.value)],
+      ['altitude', `altitude above FL${q.limits?.altitude_fl ?? 600}`, (e) => fl(e.value)],
+      ['jumps', 'position jumps (impossible speed between samples)', (e) => kt(e.value)],
+    ];
+    const total = kinds.reduce((a, [k]) => a + (q[k]?.count ?? 0), 0);
+    return h(
+      'section',
+      { class: 'quality', 'data-testid': 'summary-quality', 'data-total': String(total) },
+      h('h3', { class: 'sub-title' }, 'Data quality', total > 0 ? h('span', { class: 'stale-mark' }, `${formatInt(total)} implausible`) : null),
+      ...kinds.map(([k, label, fmt]) => {
+        const c = q[k];
+        if (!c) return null;
+        return h(
+          'div',
+          { class: 'quality-row', 'data-testid': `quality-${k}`, 'data-count': String(c.count) },
+          h('span', { class: 'num' }, formatInt(c.count)),
+          ` ${label}`,
+          c.examples.length
+            ? h(
+                'div',
+                { class: 'quality-examples small' },
+                ...c.examples.slice(0, 3).map((e) =>
+                  h(
+                    'button',
+                    { type: 'button', class: 'link-button mono', title: `${formatUtc(e.t)} UTC`, onclick: () => this.events.onFlight?.(e.flight_id, e.callsign) },
+                    `${e.callsign || `#${e.flight_id}`} ${fmt(e)}`,
+                  ),
+                ),
+              )
+            : null,
+        );
+      }),
     );
   }
 

@@ -1,16 +1,30 @@
-// The time histogram along the bottom, with a brush to pick the time window [t0, t1).
-// Drag to select (snapped to bins), drag inside to move, drag an edge to resize, double-click to clear.
-// Keyboard: ←/→ move the window by one bin, Shift+←/→ move its end, Esc clears.
+// The time histogram along the bottom, with a brush to pick the time window [t0, t1) on a zoomable axis.
+// The axis (d3-zoom: wheel or pinch, +/−/0 keys, "zoom to window") goes from the whole data set down to
+// MIN_VIEW_SECONDS; the histogram is re-asked for the view (onView) so its bins follow the zoom. Drag to
+// select at one-second resolution (never snapped to bins), drag inside to move, drag an edge to resize,
+// double-click to clear; t0 and t1 can be typed in ISO 8601 (UTC unless a zone is given).
+// Keyboard: ←/→ move the window by a nudge (about 1/100 of the view, brush.ts nudgeStep), Shift+←/→ move
+// its end, Alt+←/→ its start, Esc clears.
 // With the playback clock shown (setCursor), a cursor marks its instant: drag the cursor to scrub, click
 // anywhere to jump there (the clock itself lives in clock.ts; this only draws and reports).
 
 import type { TimeHistogram } from '../api/types';
+import { select } from 'd3-selection';
+import { zoom, zoomIdentity, type D3ZoomEvent, type ZoomBehavior } from 'd3-zoom';
+import { scaleUtc } from 'd3-scale';
+import { axisBottom } from 'd3-axis';
+import { utcFormat } from 'd3-time-format';
 import {
-  binInWindow,
+  MIN_VIEW_SECONDS,
+  SECOND_GRID,
   brushDomain,
+  clampView,
   coversDomain,
-  gridOf,
+  formatIsoUtc,
   hitTest,
+  nudgeStep,
+  parseIsoUtc,
+  zoomView,
   moveWindow,
   resizeWindow,
   timeToX,
@@ -20,18 +34,22 @@ import {
   type Span,
 } from './brush';
 import { h, svg, mount } from '../lib/dom';
-import { formatCompact, formatInt, formatUtc, formatUtcTime, formatWindow, formatDuration } from '../lib/format';
+import { debounce } from '../lib/dom';
+import { formatCompact, formatInt, formatUtcSeconds, formatDuration } from '../lib/format';
 
 const AXIS_H = 16;
 const TOP_PAD = 6;
 
-const TICK_STEPS = [60, 300, 900, 1800, 3600, 7200, 10800, 21600, 43200, 86400, 172800, 604800, 2592000];
+/** How far a pointer must travel (px) before a press becomes a drag. */
+const DRAG_PX = 3;
 
 export interface TimeBrushEvents {
   /** The user committed a window (null clears it). */
   onWindow(w: Span | null): void;
   /** The user moved the time cursor to t (a click, or each step of a drag on the cursor). */
   onCursor?(t: number): void;
+  /** The axis settled on a new view (null: the whole data set); its histogram is wanted. */
+  onView?(view: Span | null): void;
 }
 
 /** How close (px) to the cursor a press grabs it rather than starting a window. */
@@ -42,21 +60,49 @@ export class TimeBrush {
   private readonly readout: HTMLElement;
   private readonly tooltip: HTMLElement;
   private readonly plot: HTMLElement;
+  private readonly t0Input: HTMLInputElement;
+  private readonly t1Input: HTMLInputElement;
+  private readonly typedError: HTMLElement;
+  /** The window the typed fields were last filled from. */
+  private typedFor = '-';
+  private readonly zoomBehavior: ZoomBehavior<HTMLElement, unknown>;
   private hist: TimeHistogram | null = null;
+  /** The whole data set's time range. */
   private domain: Span | null = null;
+  /** The part of it the axis shows (the domain when not zoomed). */
+  private view: Span | null = null;
+  /** A view asked for before the domain was known (from the URL). */
+  private pendingView: Span | null = null;
   private window: Span | null = null;
   private width = 0;
   private height = 0;
-  private drag: { mode: DragMode | 'cursor'; startT: number; startWin: Span | null; moved: boolean } | null = null;
+  private drag: { mode: DragMode | 'cursor'; startT: number; startX: number; startWin: Span | null; moved: boolean } | null = null;
   private cursor: number | null = null;
   private cursorEl: SVGGElement | null = null;
   private state: 'empty' | 'loading' | 'ready' | 'error' = 'empty';
   private message = 'Pick a data set to see its traffic over time.';
+  private readonly emitView = debounce(() => this.events.onView?.(this.zoomed() ? this.view : null), 200);
 
   constructor(root: HTMLElement, private readonly events: TimeBrushEvents) {
     this.readout = h('span', { class: 'brush-readout', id: 'brush-readout', 'data-testid': 'time-window' });
     const clear = h('button', { class: 'link-button', type: 'button', onclick: () => this.commit(null) }, 'Clear');
     clear.setAttribute('data-testid', 'time-clear');
+    const zoomWin = h('button', { class: 'link-button', type: 'button', 'data-testid': 'time-zoom-window', title: 'Zoom the axis to the window', onclick: () => this.zoomToWindow() }, 'Zoom to window');
+    const zoomAll = h('button', { class: 'link-button', type: 'button', 'data-testid': 'time-zoom-all', title: 'Show the whole data set (0)', onclick: () => this.setView(null) }, 'Whole range');
+    const iso = (id: string, label: string) => {
+      const el = h('input', { type: 'text', class: 'time-input mono', id, 'data-testid': id, 'aria-label': `${label} (ISO 8601, UTC unless a zone is given)`, placeholder: 'YYYY-MM-DDThh:mm:ssZ', spellcheck: 'false', autocomplete: 'off', 'data-param': id === 'time-t0-input' ? 't0' : 't1' });
+      el.addEventListener('keydown', (e) => {
+        if (e.key === 'Enter') this.applyTyped();
+      });
+      // Leaving one field while the other is still empty is not an error yet: the analyst is typing the pair.
+      el.addEventListener('change', () => {
+        if (this.t0Input.value.trim() !== '' && this.t1Input.value.trim() !== '') this.applyTyped();
+      });
+      return el;
+    };
+    this.t0Input = iso('time-t0-input', 'Window start');
+    this.t1Input = iso('time-t1-input', 'Window end');
+    this.typedError = h('span', { class: 'field-error', 'data-testid': 'time-typed-error', role: 'alert', hidden: true });
     root.append(
       h(
         'div',
@@ -64,7 +110,11 @@ export class TimeBrush {
         h('span', { class: 'section-title' }, 'Time (UTC)'),
         this.readout,
         clear,
-        h('span', { class: 'brush-hint' }, 'drag to select · double-click to clear · ←/→ move'),
+        h('span', { class: 'time-typed' }, this.t0Input, h('span', { class: 'muted' }, '→'), this.t1Input),
+        this.typedError,
+        zoomWin,
+        zoomAll,
+        h('span', { class: 'brush-hint', title: 'Drag to select (one-second resolution) · double-click clears · wheel or pinch zooms the axis, +/−/0 keys too · ←/→ nudge the window, Shift+←/→ its end, Alt+←/→ its start' }, 'wheel: zoom · ←/→ nudge'),
       ),
     );
     this.plot = h('div', {
@@ -81,6 +131,15 @@ export class TimeBrush {
     this.plot.append(this.svgEl, this.tooltip);
     root.append(this.plot);
 
+    // d3-zoom drives the axis from the wheel and from two-finger pinches only: a one-finger or mouse drag
+    // is the brush's.
+    this.zoomBehavior = zoom<HTMLElement, unknown>()
+      .filter((e: Event) => e.type === 'wheel' || (e.type.startsWith('touch') && (e as TouchEvent).touches.length >= 2))
+      .on('zoom', (e: D3ZoomEvent<HTMLElement, unknown>) => this.onZoom(e.transform.k, e.transform.x));
+    select(this.plot).call(this.zoomBehavior).on('dblclick.zoom', null);
+    // At a zoom limit d3-zoom lets the wheel through: it would scroll the page under the analyst's hand.
+    this.plot.addEventListener('wheel', (e) => e.preventDefault(), { passive: false });
+
     new ResizeObserver(() => this.resize()).observe(this.plot);
     this.plot.addEventListener('pointerdown', (e) => this.onDown(e));
     this.plot.addEventListener('pointermove', (e) => this.onMove(e));
@@ -95,10 +154,24 @@ export class TimeBrush {
     this.updateReadout();
   }
 
-  /** The full-time histogram (filtered by everything but time) and the data set's time range. */
+  /**
+   * A histogram (filtered by everything but time: of the whole data set, or of the current view) and the
+   * data set's time range.
+   */
   setData(hist: TimeHistogram, tMin: number, tMax: number): void {
     this.hist = hist;
-    this.domain = brushDomain(tMin, tMax, hist);
+    const d = brushDomain(tMin, tMax);
+    const changed = !this.domain || this.domain.start !== d.start || this.domain.end !== d.end;
+    this.domain = d;
+    if (changed) {
+      this.view = d;
+      this.syncZoomExtent();
+      if (this.pendingView) {
+        const v = this.pendingView;
+        this.pendingView = null;
+        this.setView(v);
+      }
+    }
     this.state = 'ready';
     this.tooltip.hidden = true;
     this.render();
@@ -123,10 +196,75 @@ export class TimeBrush {
     this.render();
   }
 
+  /** The axis's view (null: the whole data set). Emits onView once it settles. */
+  setView(v: Span | null): void {
+    if (!this.domain || this.width === 0) {
+      this.pendingView = v;
+      return;
+    }
+    const d = this.domain;
+    const target = v ? clampView({ start: v.start, end: Math.max(v.end, v.start + MIN_VIEW_SECONDS) }, d) : d;
+    const k = (d.end - d.start) / (target.end - target.start);
+    const x = -k * timeToX(target.start, d, this.width);
+    select(this.plot).call(this.zoomBehavior.transform, zoomIdentity.translate(x, 0).scale(k));
+  }
+
+  /** The view the axis shows, or null when it shows the whole data set. */
+  getView(): Span | null {
+    return this.zoomed() ? this.view : null;
+  }
+
+  private zoomed(): boolean {
+    return !!this.view && !!this.domain && (this.view.start > this.domain.start || this.view.end < this.domain.end);
+  }
+
+  private syncZoomExtent() {
+    const W = Math.max(1, this.width);
+    const H = Math.max(1, this.height);
+    const full = this.domain ? this.domain.end - this.domain.start : 1;
+    this.zoomBehavior
+      .extent([
+        [0, 0],
+        [W, H],
+      ])
+      .translateExtent([
+        [0, 0],
+        [W, H],
+      ])
+      .scaleExtent([1, Math.max(1, full / MIN_VIEW_SECONDS)]);
+  }
+
+  /** A d3-zoom transform (scale k, shift x of the whole-domain axis) → the view. */
+  private onZoom(k: number, x: number) {
+    const d = this.domain;
+    if (!d || this.width === 0) return;
+    const start = xToTime(-x / k, d, this.width);
+    const end = xToTime((this.width - x) / k, d, this.width);
+    this.view = clampView({ start, end }, d);
+    this.tooltip.hidden = true;
+    this.render();
+    this.emitView();
+  }
+
+  private zoomToWindow() {
+    const w = this.window;
+    if (!w) return;
+    const pad = (w.end - w.start) * 0.1;
+    this.setView({ start: w.start - pad, end: w.end + pad });
+  }
+
   private resize() {
     const r = this.plot.getBoundingClientRect();
+    const view = this.getView();
     this.width = Math.max(0, Math.floor(r.width));
     this.height = Math.max(0, Math.floor(r.height));
+    this.syncZoomExtent();
+    // Keep the same view at the new width (the zoom transform is in pixels).
+    if (view || this.pendingView) {
+      const v = this.pendingView ?? view;
+      this.pendingView = null;
+      this.setView(v);
+    }
     this.render();
   }
 
@@ -146,7 +284,9 @@ export class TimeBrush {
   }
 
   private cursorX(): number | null {
-    return this.cursor === null || !this.domain ? null : timeToX(this.cursor, this.domain, this.width);
+    if (this.cursor === null || !this.view) return null;
+    const x = timeToX(this.cursor, this.view, this.width);
+    return x < -1 || x > this.width + 1 ? null : x;
   }
 
   private placeCursor() {
@@ -158,16 +298,16 @@ export class TimeBrush {
   }
 
   private winPx(w: Span | null) {
-    if (!w || !this.domain) return null;
-    return { x0: timeToX(w.start, this.domain, this.width), x1: timeToX(w.end, this.domain, this.width) };
+    if (!w || !this.view) return null;
+    return { x0: timeToX(w.start, this.view, this.width), x1: timeToX(w.end, this.view, this.width) };
   }
 
   private onDown(e: PointerEvent) {
-    if (e.button !== 0 || !this.domain || !this.hist) return;
+    if (e.button !== 0 || !this.view || !this.hist) return;
     const x = this.localX(e);
     const cx = this.cursorX();
     const mode = this.events.onCursor && cx !== null && Math.abs(x - cx) <= CURSOR_GRAB_PX ? 'cursor' : hitTest(x, this.winPx(this.window));
-    this.drag = { mode, startT: xToTime(x, this.domain, this.width), startWin: this.window, moved: false };
+    this.drag = { mode, startT: xToTime(x, this.view, this.width), startX: x, startWin: this.window, moved: false };
     this.plot.setPointerCapture(e.pointerId);
     this.plot.classList.add('dragging');
     e.preventDefault();
@@ -175,10 +315,11 @@ export class TimeBrush {
   }
 
   private onMove(e: PointerEvent) {
-    if (!this.domain || !this.hist) return;
+    const d = this.domain;
+    const v = this.view;
+    if (!d || !v || !this.hist) return;
     const x = this.localX(e);
-    const t = xToTime(x, this.domain, this.width);
-    const grid = gridOf(this.hist);
+    const t = xToTime(x, v, this.width);
     if (!this.drag) {
       this.hover(x, t);
       const cx = this.cursorX();
@@ -188,17 +329,18 @@ export class TimeBrush {
       return;
     }
     this.tooltip.hidden = true;
-    const d = this.drag;
-    if (d.mode === 'cursor') {
-      d.moved = true;
+    const dr = this.drag;
+    if (dr.mode === 'cursor') {
+      dr.moved = true;
       this.events.onCursor?.(t);
       return;
     }
-    if (!d.moved && Math.abs(t - d.startT) < grid.step / 4) return;
-    d.moved = true;
-    if (d.mode === 'new' || !d.startWin) this.window = windowFromDrag(d.startT, t, this.domain, grid);
-    else if (d.mode === 'move') this.window = moveWindow(d.startWin, t - d.startT, this.domain, grid);
-    else this.window = resizeWindow(d.startWin, d.mode, t, this.domain, grid);
+    if (!dr.moved && Math.abs(x - dr.startX) < DRAG_PX) return;
+    dr.moved = true;
+    // Whole seconds, never the histogram's bins.
+    if (dr.mode === 'new' || !dr.startWin) this.window = windowFromDrag(dr.startT, t, d, SECOND_GRID);
+    else if (dr.mode === 'move') this.window = moveWindow(dr.startWin, t - dr.startT, d, SECOND_GRID);
+    else this.window = resizeWindow(dr.startWin, dr.mode, t, d, SECOND_GRID);
     this.render();
   }
 
@@ -229,8 +371,9 @@ export class TimeBrush {
   }
 
   private onKey(e: KeyboardEvent) {
-    if (!this.domain || !this.hist) return;
-    const grid = gridOf(this.hist);
+    const d = this.domain;
+    const v = this.view;
+    if (!d || !v || !this.hist) return;
     if (e.key === 'Escape' || e.key === 'Delete' || e.key === 'Backspace') {
       if (this.window) {
         e.preventDefault();
@@ -238,16 +381,65 @@ export class TimeBrush {
       }
       return;
     }
+    if (e.key === '+' || e.key === '=' || e.key === '-' || e.key === '_') {
+      e.preventDefault();
+      const at = this.window ? (this.window.start + this.window.end) / 2 : (v.start + v.end) / 2;
+      this.setView(zoomView(v, d, at, e.key === '+' || e.key === '=' ? 2 : 0.5));
+      return;
+    }
+    if (e.key === '0') {
+      e.preventDefault();
+      this.setView(null);
+      return;
+    }
     if (e.key !== 'ArrowLeft' && e.key !== 'ArrowRight') return;
     e.preventDefault();
+    const step = nudgeStep(v);
     const dir = e.key === 'ArrowLeft' ? -1 : 1;
-    const w = this.window ?? windowFromDrag(this.domain.start, this.domain.start, this.domain, grid);
+    const w = this.window ?? windowFromDrag(v.start, v.start + 10 * step, d, SECOND_GRID);
     const next = e.shiftKey
-      ? resizeWindow(w, 'end', w.end + dir * grid.step, this.domain, grid)
-      : this.window
-        ? moveWindow(w, dir * grid.step, this.domain, grid)
-        : w;
+      ? resizeWindow(w, 'end', w.end + dir * step, d, SECOND_GRID)
+      : e.altKey
+        ? resizeWindow(w, 'start', w.start + dir * step, d, SECOND_GRID)
+        : this.window
+          ? moveWindow(w, dir * step, d, SECOND_GRID)
+          : w;
     this.commit(next);
+  }
+
+  /** The typed t0/t1: both ISO 8601 and in order, or an inline error and nothing sent. */
+  private applyTyped() {
+    const a = this.t0Input.value.trim();
+    const b = this.t1Input.value.trim();
+    if (a === '' && b === '') {
+      this.showTypedError(null);
+      if (this.window) this.commit(null);
+      return;
+    }
+    const t0 = parseIsoUtc(a);
+    const t1 = parseIsoUtc(b);
+    if (t0 === null || t1 === null) {
+      this.showTypedError(`Not an ISO 8601 time: ${t0 === null ? a || '(empty start)' : b || '(empty end)'} (e.g. 2018-01-01T10:15:00Z)`);
+      return;
+    }
+    if (!(t1 > t0)) {
+      this.showTypedError('The window ends before it starts.');
+      return;
+    }
+    const d = this.domain;
+    if (d && (t1 <= d.start || t0 >= d.end)) {
+      this.showTypedError(`Outside the data (${formatIsoUtc(d.start)} → ${formatIsoUtc(d.end)}).`);
+      return;
+    }
+    this.showTypedError(null);
+    this.commit({ start: Math.floor(t0), end: Math.ceil(t1) });
+  }
+
+  private showTypedError(msg: string | null) {
+    this.typedError.hidden = msg === null;
+    this.typedError.textContent = msg ?? '';
+    this.t0Input.toggleAttribute('aria-invalid', msg !== null);
+    this.t1Input.toggleAttribute('aria-invalid', msg !== null);
   }
 
   private commit(w: Span | null) {
@@ -266,7 +458,7 @@ export class TimeBrush {
       return;
     }
     const b0 = hist.t0 + i * hist.bin_seconds;
-    this.tooltip.textContent = `${formatUtc(b0)}–${formatUtcTime(b0 + hist.bin_seconds)} · ${formatInt(hist.counts[i])} points`;
+    this.tooltip.textContent = `${formatUtcSeconds(t)} · bin ${formatUtcSeconds(b0)}–${formatUtcSeconds(b0 + hist.bin_seconds).slice(11)}: ${formatInt(hist.counts[i])} points`;
     this.tooltip.hidden = false;
     const tw = this.tooltip.offsetWidth;
     this.tooltip.style.left = `${Math.min(Math.max(0, x - tw / 2), this.width - tw)}px`;
@@ -274,9 +466,27 @@ export class TimeBrush {
 
   private updateReadout() {
     const w = this.window;
-    this.readout.textContent = w ? `${formatWindow(w.start, w.end)} · ${formatDuration(w.end - w.start)}` : 'All times';
+    const a = w ? formatUtcSeconds(w.start) : '';
+    const b = w ? formatUtcSeconds(w.end) : '';
+    this.readout.textContent = w ? `${a.slice(11)} → ${a.slice(0, 10) === b.slice(0, 10) ? b.slice(11) : b} · ${formatDuration(w.end - w.start)}` : 'All times';
     this.plot.dataset.t0 = w ? String(w.start) : '';
     this.plot.dataset.t1 = w ? String(w.end) : '';
+    const v = this.getView();
+    this.plot.dataset.viewT0 = v ? String(v.start) : '';
+    this.plot.dataset.viewT1 = v ? String(v.end) : '';
+    // The typed fields follow the window when it changes (not on every redraw: a half-typed pair stays).
+    const key = w ? `${w.start},${w.end}` : '';
+    if (key !== this.typedFor) {
+      this.typedFor = key;
+      // A window set another way (drag, keys, URL) replaces whatever was typed, and its error.
+      if (document.activeElement !== this.t0Input && document.activeElement !== this.t1Input) this.showTypedError(null);
+      for (const [el, t] of [
+        [this.t0Input, w?.start],
+        [this.t1Input, w?.end],
+      ] as const) {
+        if (document.activeElement !== el) el.value = t === undefined ? '' : formatIsoUtc(t);
+      }
+    }
   }
 
   private render() {
@@ -288,7 +498,7 @@ export class TimeBrush {
     this.svgEl.setAttribute('width', String(W));
     this.svgEl.setAttribute('height', String(H));
     const hist = this.hist;
-    const d = this.domain;
+    const d = this.view;
     if (!hist || !d || W === 0 || H === 0) {
       this.cursorEl = null;
       mount(this.svgEl, svg('text', { x: W / 2, y: H / 2, class: 'brush-empty', 'text-anchor': 'middle', 'dominant-baseline': 'middle' }, this.state === 'loading' ? 'Loading…' : this.message));
@@ -296,47 +506,53 @@ export class TimeBrush {
     }
     const ph = this.plotH();
     const base = TOP_PAD + ph;
-    const max = Math.max(0, ...hist.counts);
-    const grid = gridOf(hist);
+    // Bars of the bins inside the view (the histogram may be of the whole data set or of the view).
+    const first = Math.max(0, Math.floor((d.start - hist.t0) / hist.bin_seconds));
+    const last = Math.min(hist.counts.length - 1, Math.floor((d.end - hist.t0) / hist.bin_seconds));
+    let max = 0;
+    for (let i = first; i <= last; i++) max = Math.max(max, hist.counts[i]!);
     const bars = svg('g', { class: 'bars' });
-    const bw = timeToX(d.start + hist.bin_seconds, d, W) - timeToX(d.start, d, W);
+    const bw = (hist.bin_seconds / (d.end - d.start)) * W;
     const gap = bw > 4 ? 1 : 0;
-    hist.counts.forEach((c, i) => {
-      if (c <= 0) return;
-      const x = timeToX(hist.t0 + i * hist.bin_seconds, d, W);
+    for (let i = first; i <= last; i++) {
+      const c = hist.counts[i]!;
+      if (c <= 0) continue;
+      const b0 = hist.t0 + i * hist.bin_seconds;
+      const x = timeToX(b0, d, W);
       const bh = Math.max(1, (c / Math.max(1, max)) * ph);
-      const inWin = !this.window || binInWindow(i, grid, this.window);
+      const w = this.window;
+      const inWin = !w || (b0 < w.end && b0 + hist.bin_seconds > w.start);
       bars.append(svg('rect', { x: x + gap / 2, y: base - bh, width: Math.max(0.5, bw - gap), height: bh, class: inWin ? 'bar in' : 'bar' }));
-    });
-
-    // Axis: ticks at round UTC times.
-    const axis = svg('g', { class: 'axis' });
-    const span = d.end - d.start;
-    const step = TICK_STEPS.find((s) => (span / s) * 80 <= W) ?? TICK_STEPS[TICK_STEPS.length - 1]!;
-    const first = Math.ceil(d.start / step) * step;
-    axis.append(svg('line', { x1: 0, x2: W, y1: base + 0.5, y2: base + 0.5, class: 'axis-line' }));
-    for (let t = first; t <= d.end; t += step) {
-      const x = Math.round(timeToX(t, d, W)) + 0.5;
-      const label = step >= 86400 || t % 86400 === 0 ? formatUtc(t).slice(0, 10) : formatUtcTime(t);
-      axis.append(svg('line', { x1: x, x2: x, y1: base, y2: base + 4, class: 'tick' }));
-      // ~6 px per character of the 10 px monospace labels; skip a label the right edge would cut.
-      if (x + 3 + label.length * 6.2 <= W) axis.append(svg('text', { x: x + 3, y: base + 13, class: 'tick-label' }, label));
     }
-    axis.append(
-      max > 0
-        ? svg('text', { x: 4, y: TOP_PAD + 9, class: 'tick-label ymax' }, `${formatCompact(max)} pts/bin`)
-        : svg('text', { x: W / 2, y: TOP_PAD + ph / 2, class: 'brush-empty', 'text-anchor': 'middle', 'dominant-baseline': 'middle' }, 'No traffic matches the other filters.'),
-    );
 
-    const children: SVGElement[] = [bars, axis];
+    // Axis: d3's UTC time scale picks round ticks for any zoom, from days down to seconds.
+    const axis = svg('g', { class: 'axis time-axis', transform: `translate(0,${base})` });
+    const scale = scaleUtc()
+      .domain([new Date(d.start * 1000), new Date(d.end * 1000)])
+      .range([0, W]);
+    select(axis).call(
+      axisBottom(scale)
+        .ticks(Math.max(2, Math.floor(W / 110)))
+        .tickFormat((v) => utcTick(v as Date))
+        .tickSizeOuter(0)
+        .tickSize(4),
+    );
+    const yLabel =
+      max > 0
+        ? svg('text', { x: 4, y: TOP_PAD + 9, class: 'tick-label ymax' }, `${formatCompact(max)} pts/bin (${formatDuration(hist.bin_seconds)})`)
+        : svg('text', { x: W / 2, y: TOP_PAD + ph / 2, class: 'brush-empty', 'text-anchor': 'middle', 'dominant-baseline': 'middle' }, 'No traffic matches the other filters.');
+
+    const children: SVGElement[] = [bars, axis, yLabel];
     const wp = this.winPx(this.window);
     if (wp) {
+      const x0 = Math.max(-4, Math.min(W + 4, wp.x0));
+      const x1 = Math.max(-4, Math.min(W + 4, wp.x1));
       children.push(
-        svg('rect', { x: 0, y: TOP_PAD, width: Math.max(0, wp.x0), height: ph, class: 'shade' }),
-        svg('rect', { x: wp.x1, y: TOP_PAD, width: Math.max(0, W - wp.x1), height: ph, class: 'shade' }),
-        svg('rect', { x: wp.x0, y: TOP_PAD, width: Math.max(1, wp.x1 - wp.x0), height: ph, class: 'selection' }),
-        svg('rect', { x: wp.x0 - 2, y: TOP_PAD + ph / 2 - 10, width: 4, height: 20, rx: 1.5, class: 'handle' }),
-        svg('rect', { x: wp.x1 - 2, y: TOP_PAD + ph / 2 - 10, width: 4, height: 20, rx: 1.5, class: 'handle' }),
+        svg('rect', { x: 0, y: TOP_PAD, width: Math.max(0, x0), height: ph, class: 'shade' }),
+        svg('rect', { x: x1, y: TOP_PAD, width: Math.max(0, W - x1), height: ph, class: 'shade' }),
+        svg('rect', { x: x0, y: TOP_PAD, width: Math.max(1, x1 - x0), height: ph, class: 'selection' }),
+        svg('rect', { x: x0 - 2, y: TOP_PAD + ph / 2 - 10, width: 4, height: 20, rx: 1.5, class: 'handle' }),
+        svg('rect', { x: x1 - 2, y: TOP_PAD + ph / 2 - 10, width: 4, height: 20, rx: 1.5, class: 'handle' }),
       );
     }
     this.cursorEl = svg(
@@ -349,4 +565,15 @@ export class TimeBrush {
     mount(this.svgEl, ...children);
     this.placeCursor();
   }
+}
+
+const fmtDay = utcFormat('%b %d');
+const fmtMinute = utcFormat('%H:%M');
+const fmtSecond = utcFormat('%H:%M:%S');
+
+/** A UTC tick label in 24-hour time: the date at midnight, seconds only when the tick has them. */
+function utcTick(d: Date): string {
+  if (d.getUTCSeconds() !== 0) return fmtSecond(d);
+  if (d.getUTCHours() === 0 && d.getUTCMinutes() === 0) return fmtDay(d);
+  return fmtMinute(d);
 }

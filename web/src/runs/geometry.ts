@@ -99,3 +99,37 @@ export function nearest(points: readonly Pt[], q: Pt, radius: number): number {
   });
   return best;
 }
+
+/**
+ * Points drawn on top of one another: groups of two or more whose pixels lie within `tol` of the group's
+ * first point (identical runs project to the same place and would hide each other). Each group lists
+ * indices in input order; points with no finite position are left out.
+ */
+export function overlapGroups(points: readonly Pt[], tol = 1): number[][] {
+  const cell = Math.max(tol, 1e-9);
+  const grid = new Map<string, number[]>();
+  const groups: number[][] = [];
+  const owner: number[] = [];
+  points.forEach((p, i) => {
+    if (!Number.isFinite(p.x) || !Number.isFinite(p.y)) return;
+    const cx = Math.floor(p.x / cell);
+    const cy = Math.floor(p.y / cell);
+    for (let dx = -1; dx <= 1; dx++)
+      for (let dy = -1; dy <= 1; dy++) {
+        for (const g of grid.get(`${cx + dx},${cy + dy}`) ?? []) {
+          const head = points[groups[g]![0]!]!;
+          if (Math.hypot(head.x - p.x, head.y - p.y) <= tol) {
+            groups[g]!.push(i);
+            owner[i] = g;
+            return;
+          }
+        }
+      }
+    const g = groups.length;
+    groups.push([i]);
+    owner[i] = g;
+    const key = `${cx},${cy}`;
+    grid.set(key, [...(grid.get(key) ?? []), g]);
+  });
+  return groups.filter((g) => g.length > 1);
+}

@@ -74,6 +74,12 @@ export class ParallelCoords {
     this.render();
   }
 
+  /** Sets the brushes (from the URL); axes not shown are dropped. Does not emit. */
+  setBrushes(b: readonly [string, [number, number]][]): void {
+    this.brushes = new Map(b.filter(([k]) => this.axes.some((a) => a.key === k)));
+    this.render();
+  }
+
   get brushState(): Map<string, [number, number]> {
     return this.brushes;
   }

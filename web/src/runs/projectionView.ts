@@ -4,9 +4,9 @@
 // select its run; Escape clears. Hover shows the run and its metric.
 
 import { cssContext, fitCanvas, h, mount, sectionHead } from '../lib/dom';
-import { cssGradient } from '../lib/colors';
 import type { ColorScale } from './colorScale';
-import { brushHits, fitPoints, nearest, normRect, type Fit, type Pt } from './geometry';
+import { linearTicks, renderLegend } from '../lib/legend';
+import { brushHits, fitPoints, nearest, normRect, overlapGroups, type Fit, type Pt } from './geometry';
 
 export interface ScatterPoint {
   id: string;
@@ -118,14 +118,9 @@ export class ProjectionView {
   setColor(scale: ColorScale | null, label: string, format: (v: number) => string): void {
     this.scale = scale;
     if (scale) {
-      mount(
-        this.legend,
-        h('span', { class: 'legend-label' }, label),
-        h('span', { class: 'muted' }, format(scale.lo)),
-        h('span', { class: 'legend-bar', style: `background:${cssGradient(scale.stops)}` }),
-        h('span', { class: 'muted' }, format(scale.hi)),
-        h('span', { class: 'legend-item' }, h('span', { class: 'legend-dot nan' }), 'no value'),
-      );
+      const bar = h('div', {});
+      renderLegend(bar, { title: label, stops: scale.stops, ticks: linearTicks(scale.lo, scale.hi, 4, format), width: 200, testid: 'projection-legend' });
+      mount(this.legend, bar, h('span', { class: 'legend-item' }, h('span', { class: 'legend-dot nan' }), 'no value'));
     } else mount(this.legend);
     this.invalidate();
   }
@@ -250,6 +245,12 @@ export class ProjectionView {
       ctx.arc(q.x, q.y, isFront ? RADIUS + 1 : RADIUS, 0, Math.PI * 2);
       ctx.fillStyle = this.scale ? this.scale.color(p.value) : '#9aa5b3';
       ctx.fill();
+      // A light rim: the dark end of viridis/inferno would otherwise vanish into the black plot.
+      if (!isFront) {
+        ctx.lineWidth = 1;
+        ctx.strokeStyle = dim ? 'rgba(200, 210, 225, 0.25)' : 'rgba(220, 228, 240, 0.7)';
+        ctx.stroke();
+      }
       if (isFront) {
         ctx.globalAlpha = 1;
         ctx.lineWidth = 1.6;
@@ -260,6 +261,23 @@ export class ProjectionView {
     for (const i of order) drawPoint(i, false);
     for (const i of front) drawPoint(i, true);
     ctx.globalAlpha = 1;
+    // Runs drawn on top of one another (identical results project to one place): a ring and their count.
+    const stacks = overlapGroups(this.px, 1);
+    this.root.dataset.overlaps = String(stacks.length);
+    this.root.dataset.overlapRuns = stacks.map((g) => g.map((i) => this.points[i]!.id).join('+')).join(' ');
+    ctx.font = '10px ui-monospace, monospace';
+    for (const g of stacks) {
+      const q = this.px[g[0]!]!;
+      ctx.beginPath();
+      ctx.arc(q.x, q.y, RADIUS + 3, 0, Math.PI * 2);
+      ctx.strokeStyle = '#f5f7fa';
+      ctx.lineWidth = 1;
+      ctx.setLineDash([2, 2]);
+      ctx.stroke();
+      ctx.setLineDash([]);
+      ctx.fillStyle = '#f5f7fa';
+      ctx.fillText(`×${g.length}`, q.x + RADIUS + 4, q.y - RADIUS - 2);
+    }
     if (this.hover >= 0 && this.px[this.hover]) {
       const q = this.px[this.hover]!;
       ctx.beginPath();

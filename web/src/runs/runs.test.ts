@@ -3,10 +3,10 @@ import { parseCompare, wireNumber } from '../api/runs';
 import type { RunRow } from '../api/runsTypes';
 import { NAN_COLOR, colorScale, rampColor } from './colorScale';
 import { laneScales } from './compareView';
-import { brushHits, fitPoints, inPolygon, inRect, nearest, normRect } from './geometry';
+import { brushHits, fitPoints, inPolygon, inRect, nearest, normRect, overlapGroups } from './geometry';
 import { bestIndex, formatMetric, formatNumber, formatParam, metricValue, paramValue, varyingParams } from './metrics';
 import { axisDomain, axisX, passesBrushes, valueAt, yOf } from './parcoordsScale';
-import { isRunsHash, parseRunsHash, runsHash } from './route';
+import { isRunsHash, parsePcFilters, parseRunsHash, runsHash } from './route';
 import { sortRows } from './runsTable';
 import { MAX_COMPARE, clickSelect, pickCompare, rangeIds } from './selection';
 import { sweepBody } from './sweepLauncher';
@@ -197,8 +197,21 @@ describe('route', () => {
     expect(isRunsHash('#tracker')).toBe(false);
     const h = runsHash({ sweep: 's2', sel: ['r1', 'r7'], metric: 'accuracy.median_error_mm', method: 'tsne', frame: 12 });
     expect(h).toBe('#runs?sweep=s2&sel=r1,r7&metric=accuracy.median_error_mm&method=tsne&frame=12');
-    expect(parseRunsHash(h)).toEqual({ sweep: 's2', sel: ['r1', 'r7'], metric: 'accuracy.median_error_mm', method: 'tsne', frame: 12 });
-    expect(parseRunsHash('#runs')).toEqual({ sweep: null, sel: [], metric: null, method: null, frame: null });
+    expect(parseRunsHash(h)).toEqual({ sweep: 's2', sel: ['r1', 'r7'], metric: 'accuracy.median_error_mm', method: 'tsne', frame: 12, perp: null, pc: [] });
+    expect(parseRunsHash('#runs')).toEqual({ sweep: null, sel: [], metric: null, method: null, frame: null, perp: null, pc: [] });
+  });
+
+  it('keeps the perplexity and the parallel-coordinate filters (keys may hold colons)', () => {
+    const pc: [string, [number, number]][] = [
+      ['param:ncc_min', [0.25, 0.5]],
+      ['metric:accuracy.median_error_mm', [1, 3.5]],
+    ];
+    const h = runsHash({ sweep: 's1', method: 'tsne', perp: 5, pc });
+    expect(h).toBe('#runs?sweep=s1&method=tsne&perp=5&pc=param:ncc_min:0.25:0.5;metric:accuracy.median_error_mm:1:3.5');
+    const r = parseRunsHash(h);
+    expect(r.perp).toBe(5);
+    expect(r.pc).toEqual(pc);
+    expect(parsePcFilters('x:1;:1:2;k:3:1;k:a:2')).toEqual([]);
     expect(runsHash({})).toBe('#runs');
   });
 });
@@ -351,5 +364,33 @@ describe('sweep launcher body', () => {
         { param: 'a', min: 0, max: 1 },
       ]),
     ).toThrow(/twice/);
+  });
+});
+
+describe('overlapGroups', () => {
+  it('groups points within the tolerance of a group head, as brute force does', () => {
+    const pts = [
+      { x: 10, y: 10 },
+      { x: 10.4, y: 10.2 },
+      { x: 50, y: 50 },
+      { x: 10, y: 10 },
+      { x: 50, y: 52 },
+      { x: NaN, y: 1 },
+      { x: 0.2, y: 0 },
+      { x: -0.3, y: 0.1 },
+    ];
+    // Brute force: each point joins the first earlier head within 1 px, else heads its own group.
+    const heads: number[][] = [];
+    pts.forEach((p, i) => {
+      if (!Number.isFinite(p.x)) return;
+      const g = heads.find((h) => Math.hypot(pts[h[0]!]!.x - p.x, pts[h[0]!]!.y - p.y) <= 1);
+      if (g) g.push(i);
+      else heads.push([i]);
+    });
+    expect(overlapGroups(pts, 1)).toEqual(heads.filter((g) => g.length > 1));
+    expect(overlapGroups(pts, 1)).toEqual([
+      [0, 1, 3],
+      [6, 7],
+    ]);
   });
 });

@@ -18,6 +18,7 @@ import { ParallelCoords, type PcRow } from './parallelCoords';
 import { axisDomain, type PcAxis } from './parcoordsScale';
 import { ProjectionView, type ScatterPoint } from './projectionView';
 import { isRunsHash, parseRunsHash, runsHash } from './route';
+import { DEFAULT_PERPLEXITY, choosePerplexity } from './tsne';
 import { RunsTable } from './runsTable';
 import { pickCompare, type ComparePick } from './selection';
 import { SweepLauncher } from './sweepLauncher';
@@ -56,6 +57,13 @@ export class RunsView {
   private sweep: string | null = null;
   private metric = 'track_share';
   private method: ProjectionMethod = 'pca';
+  /** The t-SNE perplexity asked for (capped to the table by choosePerplexity). */
+  private perplexity = DEFAULT_PERPLEXITY;
+  private readonly perplexityInput: HTMLInputElement;
+  private readonly perplexityNote: HTMLElement;
+  private readonly perplexityBox: HTMLElement;
+  /** Parallel-coordinate filters from the URL, applied once the sweep's axes exist. */
+  private pendingPc: [string, [number, number]][] | null = null;
   private selection: string[] = [];
   private filter: Set<string> | null = null;
   private scale: ColorScale | null = null;
@@ -102,10 +110,34 @@ export class RunsView {
       ],
       () => void this.project(),
     );
+    this.perplexityInput = h('input', {
+      type: 'number',
+      min: 1,
+      max: 100,
+      step: 1,
+      value: DEFAULT_PERPLEXITY,
+      class: 'num-input',
+      'aria-label': 't-SNE perplexity',
+      'data-testid': 'perplexity-input',
+    });
+    this.perplexityInput.addEventListener('change', () => {
+      const v = Number(this.perplexityInput.value);
+      if (!(v >= 1 && v <= 100)) {
+        this.perplexityNote.textContent = 'perplexity: a number from 1 to 100';
+        this.perplexityInput.setAttribute('aria-invalid', 'true');
+        return; // never sent
+      }
+      this.perplexityInput.removeAttribute('aria-invalid');
+      this.perplexity = v;
+      this.writeHash();
+      void this.project();
+    });
+    this.perplexityNote = h('span', { class: 'muted small', 'data-testid': 'perplexity-note' });
+    this.perplexityBox = h('label', { class: 'perplexity', hidden: true }, h('span', { class: 'small' }, 'perplexity'), this.perplexityInput, this.perplexityNote);
     const projectBtn = h('button', { class: 'btn btn-small', type: 'button', 'data-testid': 'project-button', onclick: () => void this.project() }, 'Project');
     this.projection = new ProjectionView(
       { onSelect: (ids, add) => this.setSelection(ids, add) },
-      h('div', { class: 'proj-controls' }, this.methodSelect, this.includeSelect, projectBtn),
+      h('div', { class: 'proj-controls' }, this.methodSelect, this.includeSelect, this.perplexityBox, projectBtn),
     );
     this.pc = new ParallelCoords({
       onBrush: () => this.onFilter(),
@@ -169,6 +201,11 @@ export class RunsView {
     if (r.method && (PROJECTION_METHODS as readonly string[]).includes(r.method)) this.method = r.method as ProjectionMethod;
     this.methodSelect.value = this.method;
     if (r.frame !== null) this.cursor = r.frame;
+    if (r.perp !== null && r.perp >= 1 && r.perp <= 100) {
+      this.perplexity = r.perp;
+      this.perplexityInput.value = String(r.perp);
+    }
+    if (r.pc.length) this.pendingPc = r.pc;
     if (!this.loaded) {
       this.loaded = true;
       await this.loadLists();
@@ -178,6 +215,8 @@ export class RunsView {
       // The bare tab link (#runs): keep what the view shows and put it back in the URL.
       this.syncHash();
     } else if ((r.sweep ?? null) !== this.sweep && r.sweep) {
+      // A sweep made since the lists were loaded (a link from elsewhere): load them again first.
+      if (!this.sweeps.some((x) => x.id === r.sweep)) await this.loadLists();
       await this.setSweep(r.sweep, false, r.sel);
     } else if (r.sel.join(',') !== this.selection.join(',')) {
       this.setSelection(r.sel, false);
@@ -231,6 +270,11 @@ export class RunsView {
     const varying = varyingParams(this.rows);
     this.table.setRows(this.rows, varying.slice(0, KEY_PARAMS), this.units);
     this.buildParallel(varying);
+    if (this.pendingPc) {
+      this.pc.setBrushes(this.pendingPc);
+      this.pendingPc = null;
+      this.onFilter();
+    }
     this.updateColors();
     this.selection = [];
     this.setSelection(
@@ -324,12 +368,31 @@ export class RunsView {
       return;
     }
     const include = this.includeSelect.value.split(',') as ('params' | 'metrics')[];
+    // t-SNE: the perplexity capped to the table (tsne.ts), or not offered at all below 4 runs.
+    const perp = choosePerplexity(this.perplexity, this.rows.length);
+    const tsneOption = this.methodSelect.querySelector<HTMLOptionElement>('option[value="tsne"]');
+    if (tsneOption) {
+      tsneOption.disabled = perp.value === null;
+      tsneOption.title = perp.value === null ? perp.note : '';
+    }
+    this.perplexityBox.hidden = this.method !== 'tsne';
+    this.perplexityNote.textContent = perp.note;
+    this.perplexityBox.dataset.capped = String(perp.capped);
+    this.perplexityBox.dataset.value = perp.value === null ? '' : String(perp.value);
+    if (this.method === 'tsne' && perp.value === null) {
+      this.proj = null;
+      this.setPoints();
+      this.projection.setState('empty', perp.note);
+      mount(this.quality);
+      return;
+    }
     this.projection.setState('loading', `Projecting ${this.rows.length} runs (${this.method})…`);
     try {
       const body = {
         runs: this.sweep ? { sweep: this.sweep, include } : { include },
         method: this.method,
         seed: 42,
+        ...(this.method === 'tsne' ? { perplexity: perp.value! } : {}),
       };
       const t0 = performance.now();
       const p = await runsApi.projection(body, ctrl.signal);
@@ -396,6 +459,7 @@ export class RunsView {
     this.filter = b.size ? new Set(this.pc.filtered()) : null;
     this.table.setHighlight(this.filter);
     this.projection.setHighlight(this.filter);
+    this.writeHash();
   }
 
   /** The one selection of the view. `add` merges into the current one (Shift-brush). */
@@ -478,6 +542,8 @@ export class RunsView {
       metric: this.metric !== 'track_share' ? this.metric : null,
       method: this.method !== 'pca' ? this.method : null,
       frame: this.cmp ? this.cursor : null,
+      perp: this.method === 'tsne' && this.perplexity !== DEFAULT_PERPLEXITY ? this.perplexity : null,
+      pc: [...this.pc.brushState],
     });
     if (window.location.hash !== next) history.replaceState(null, '', next);
   }

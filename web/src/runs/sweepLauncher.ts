@@ -105,15 +105,16 @@ export class SweepLauncher {
     const param = h('select', { 'aria-label': 'Parameter', 'data-testid': 'launch-param' }, ...this.params.map((p) => h('option', { value: p.name }, p.unit ? `${p.name} (${p.unit})` : p.name)));
     const used = new Set(this.axes.map((a) => a.param.value));
     param.value = name ?? this.params.find((p) => !used.has(p.name))?.name ?? '';
-    const min = h('input', { type: 'number', step: 'any', 'aria-label': 'Minimum', 'data-testid': 'launch-min' });
-    const max = h('input', { type: 'number', step: 'any', 'aria-label': 'Maximum', 'data-testid': 'launch-max' });
+    const min = h('input', { type: 'number', step: 'any', 'aria-label': 'Minimum', placeholder: 'min', 'data-testid': 'launch-min' });
+    const max = h('input', { type: 'number', step: 'any', 'aria-label': 'Maximum', placeholder: 'max', 'data-testid': 'launch-max' });
     const fill = () => {
       const p = this.params.find((x) => x.name === param.value);
       if (!p) return;
       // Default range: half to twice the default, inside the parameter's own range.
       const d = p.default_value;
-      min.value = String(Math.max(p.min, d > 0 ? d / 2 : p.min));
-      max.value = String(Math.min(p.max, d > 0 ? d * 2 : p.max));
+      // Four significant digits: the field shows the whole number.
+      min.value = String(+Math.max(p.min, d > 0 ? d / 2 : p.min).toPrecision(4));
+      max.value = String(+Math.min(p.max, d > 0 ? d * 2 : p.max).toPrecision(4));
     };
     param.addEventListener('change', fill);
     fill();

@@ -6,8 +6,24 @@ import { PAIR_NAMES, TEAT_NAMES, distance3, type FrameRecord, type FrameTruth } 
 import { h, mount, sectionHead } from '../lib/dom';
 import { STATE_COLORS, TEAT_COLORS } from './palette';
 
-const f1 = (v: number, d = 1) => (Number.isFinite(v) ? v.toFixed(d) : '–');
-const int = (v: number) => (Number.isFinite(v) ? String(Math.round(v)) : '–');
+/** What a frame does not have (a LOST frame's model, an untracked teat's estimate) reads "-", never 0. */
+export const MISSING = '-';
+const f1 = (v: number, d = 1) => (Number.isFinite(v) ? v.toFixed(d) : MISSING);
+const int = (v: number) => (Number.isFinite(v) ? String(Math.round(v)) : MISSING);
+
+/** Whether the frame holds a fitted model (its costs and pair distances mean something). */
+export function hasModel(f: Pick<FrameRecord, 'state' | 'model'>): boolean {
+  return f.state === 'TRACK' || f.model.teatsMatched > 0;
+}
+
+/**
+ * A teat's row values (conf, x, y, z, r): "-" when the tracker has no estimate of it (neither seen nor
+ * tracked: a LOST or SEARCH frame writes zeros there, which are not measurements).
+ */
+export function teatValues(t: FrameRecord['teats'][number]): string[] {
+  if (!t.visible && !t.tracked) return [MISSING, MISSING, MISSING, MISSING, MISSING];
+  return [f1(t.confidence, 2), f1(t.tipMm?.[0] ?? NaN), f1(t.tipMm?.[1] ?? NaN), f1(t.tipMm?.[2] ?? NaN), f1(t.radiusMm)];
+}
 
 function table(cls: string, testid: string, head: string[], rows: (string | Node)[][]): HTMLTableElement {
   return h(
@@ -65,6 +81,7 @@ export class FrameData {
       return;
     }
     this.root.dataset.state = f.state;
+    const model = hasModel(f);
     const state = h('span', { class: 'state-badge', style: `background:${STATE_COLORS[f.state]}`, 'data-testid': 'frame-state' }, f.state);
     const summary = h(
       'div',
@@ -76,13 +93,13 @@ export class FrameData {
       kv('teats matched', int(f.model.teatsMatched)),
       kv('valid px', int(f.validPixels)),
       kv('flying px', int(f.flyingPixels)),
-      kv('cost', f1(f.model.cost, 2), 'frame-cost'),
-      kv('shape cost', `${f1(f.model.shapeCost, 2)} mm`),
-      kv('NCC cost', f1(f.model.nccCost, 3)),
+      kv('cost', model ? f1(f.model.cost, 2) : MISSING, 'frame-cost'),
+      kv('shape cost', model ? `${f1(f.model.shapeCost, 2)} mm` : MISSING),
+      kv('NCC cost', model ? f1(f.model.nccCost, 3) : MISSING),
     );
     const pairs = table('pairs', 'frame-pairs', ['mm', ...PAIR_NAMES], [
-      ['distance', ...f.model.pairMm.map((v) => f1(v))],
-      ['error', ...f.model.pairErrorMm.map((v) => f1(v, 2))],
+      ['distance', ...f.model.pairMm.map((v) => (model ? f1(v) : MISSING))],
+      ['error', ...f.model.pairErrorMm.map((v) => (model ? f1(v, 2) : MISSING))],
     ]);
     const teats = table(
       'teats',
@@ -93,12 +110,8 @@ export class FrameData {
         const err = t.tracked && tr?.visible ? distance3(t.tipMm, tr.tipMm) : NaN;
         return [
           teatTag(i),
-          t.visible ? 'yes' : t.tracked ? 'pred' : '–',
-          f1(t.confidence, 2),
-          f1(t.tipMm?.[0] ?? NaN),
-          f1(t.tipMm?.[1] ?? NaN),
-          f1(t.tipMm?.[2] ?? NaN),
-          f1(t.radiusMm),
+          t.visible ? 'yes' : t.tracked ? 'pred' : MISSING,
+          ...teatValues(t),
           f1(err, 2),
         ];
       }),

@@ -11,14 +11,18 @@ export function trackerHashParams(hash: string): URLSearchParams {
   return new URLSearchParams(hash.replace(/^#tracker\/?/, '').replace(/^[?&]/, ''));
 }
 
-export function trackerHash(replay: string | null): string {
-  return replay ? `#tracker?replay=${encodeURIComponent(replay)}` : '#tracker';
+/** "#tracker?replay=ID&frame=N": a live replay, at frame N once it rests there. */
+export function trackerHash(replay: string | null, frame?: number | null): string {
+  if (!replay) return '#tracker';
+  const f = frame !== undefined && frame !== null && Number.isInteger(frame) && frame >= 0 ? `&frame=${frame}` : '';
+  return `#tracker?replay=${encodeURIComponent(replay)}${f}`;
 }
 
-/** "#tracker?run=ID&frame=N": a stored run opened at video frame N. */
-export function trackerRunHash(run: string, frame?: number | null): string {
+/** "#tracker?run=ID&frame=N[&depth=frame]": a stored run opened at video frame N (depth=frame: per-frame depth range). */
+export function trackerRunHash(run: string, frame?: number | null, depthPerFrame = false): string {
   const q = new URLSearchParams({ run });
   if (frame !== undefined && frame !== null && Number.isInteger(frame) && frame >= 0) q.set('frame', String(frame));
+  if (depthPerFrame) q.set('depth', 'frame');
   return `#tracker?${q.toString()}`;
 }
 
@@ -28,6 +32,8 @@ export interface TrackerRoute {
   /** The video frame to show (a non-negative integer), or null when absent or malformed. */
   frame: number | null;
   video: string | null;
+  /** Depth coloured with each frame's own range (`depth=frame`) instead of the video's one range. */
+  depthPerFrame: boolean;
 }
 
 export function parseTrackerRoute(hash: string): TrackerRoute {
@@ -38,5 +44,11 @@ export function parseTrackerRoute(hash: string): TrackerRoute {
   };
   const f = str('frame');
   const frame = f !== null && /^\d+$/.test(f) ? Number(f) : null;
-  return { replay: str('replay'), run: str('run'), frame: frame !== null && Number.isSafeInteger(frame) ? frame : null, video: str('video') };
+  return {
+    replay: str('replay'),
+    run: str('run'),
+    frame: frame !== null && Number.isSafeInteger(frame) ? frame : null,
+    video: str('video'),
+    depthPerFrame: q.get('depth') === 'frame',
+  };
 }

@@ -6,8 +6,10 @@ import { applyOp, pagePlan, playFrame, RUN_PAGE } from './storedRun';
 
 describe('stored run route', () => {
   it('parses run and frame', () => {
-    expect(parseTrackerRoute('#tracker?run=r12&frame=37')).toEqual({ replay: null, run: 'r12', frame: 37, video: null });
-    expect(parseTrackerRoute('#tracker?replay=replay-1')).toEqual({ replay: 'replay-1', run: null, frame: null, video: null });
+    expect(parseTrackerRoute('#tracker?run=r12&frame=37')).toEqual({ replay: null, run: 'r12', frame: 37, video: null, depthPerFrame: false });
+    expect(parseTrackerRoute('#tracker?replay=replay-1')).toEqual({ replay: 'replay-1', run: null, frame: null, video: null, depthPerFrame: false });
+    expect(parseTrackerRoute('#tracker?replay=replay-1&frame=12')).toMatchObject({ replay: 'replay-1', frame: 12 });
+    expect(parseTrackerRoute(trackerRunHash('r1', 5, true))).toMatchObject({ run: 'r1', frame: 5, depthPerFrame: true });
     expect(parseTrackerRoute('#tracker').run).toBeNull();
     expect(parseTrackerRoute('#runs?run=r1&frame=3').run).toBeNull();
   });

@@ -173,6 +173,19 @@ export class StoredRunSource implements FrameSource {
     if (!end) this.timer = window.setTimeout(this.tick, this.interval());
   };
 
+  /**
+   * Colours depth with one range for the whole video (`range`, the store's depth_range_mm) or, with
+   * undefined, each frame with its own 2nd–98th percentiles (the server's default); the frame on screen
+   * is fetched again.
+   */
+  setDepthRange(range: [number, number] | undefined): void {
+    if (range) this.info.depthRange = range;
+    else delete this.info.depthRange;
+    const f = this.shown?.index ?? this.want;
+    this.shown = null;
+    if (f >= 0) this.request(f);
+  }
+
   /** Puts `frame` on screen once its pictures are in (only the newest wanted frame is fetched). */
   private request(frame: number) {
     this.want = frame;

@@ -5,6 +5,7 @@ import { FrameStore } from './frameStore';
 import { isTrackerHash, trackerHash, trackerHashParams } from './route';
 import { extent, teatSeries } from './series';
 import { paramProblem } from './setupPanel';
+import { MISSING, hasModel, teatValues } from './frameData';
 
 describe('frameAxis', () => {
   it('maps x to the frame covering it and back', () => {
@@ -88,6 +89,7 @@ describe('route', () => {
     expect(trackerHashParams('#tracker').get('replay')).toBeNull();
     expect(trackerHashParams('#dataset=x').get('dataset')).toBeNull();
     expect(trackerHash('a b')).toBe('#tracker?replay=a%20b');
+    expect(trackerHash('r', 42)).toBe('#tracker?replay=r&frame=42');
     expect(trackerHashParams(trackerHash('a b&c')).get('replay')).toBe('a b&c');
   });
 });
@@ -101,5 +103,17 @@ describe('paramProblem', () => {
     expect(paramProblem(p, '2.5')).toMatch(/whole/);
     expect(paramProblem(p, '0')).toMatch(/\[1, 1000\]/);
     expect(paramProblem({ ...p, integer: false, min: 0, max: 1 }, '0.55')).toBeNull();
+  });
+});
+
+describe('frame data of a LOST frame', () => {
+  it('shows "-" for what the frame does not have, values for what it has', () => {
+    const lost = decodeFrameRecord({ index: 7, state: 'STATE_LOST', teats: [{}, {}, {}, {}] });
+    expect(lost.state).toBe('LOST');
+    expect(hasModel(lost)).toBe(false);
+    expect(teatValues(lost.teats[0]!)).toEqual([MISSING, MISSING, MISSING, MISSING, MISSING]);
+    const seen = rec(8, 'STATE_TRACK', [1.25, -2, 300]);
+    expect(hasModel(seen)).toBe(true);
+    expect(teatValues(seen.teats[0]!).slice(1, 4)).toEqual(['1.3', '-2.0', '300.0']);
   });
 });

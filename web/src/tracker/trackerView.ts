@@ -44,6 +44,12 @@ export class TrackerView {
   private store: FrameStore | null = null;
   private state: PlayerState = { playing: false, frame: 0, speed: 1 };
   private current = 0;
+  /** A live replay's frame from the URL, sought once its socket says hello. */
+  private pendingReplayFrame: number | null = null;
+  /** Depth coloured per frame (each frame's own 2nd–98th percentiles) rather than with the video's one range. */
+  private depthPerFrame = false;
+  private videoDepthRange: [number, number] | undefined = undefined;
+  private readonly depthToggle: HTMLInputElement;
   private run: string | null = null;
   private done = false;
   private pollTimer: number | undefined;
@@ -61,11 +67,19 @@ export class TrackerView {
     this.trajectories = new Trajectories((f) => this.seek(f));
     this.frameData = new FrameData();
     this.status = h('div', { class: 'tracker-status muted small', 'data-testid': 'tracker-status', role: 'status' });
+    this.depthToggle = h('input', { type: 'checkbox', 'data-testid': 'depth-per-frame' });
+    this.depthToggle.addEventListener('change', () => this.setDepthPerFrame(this.depthToggle.checked));
+    const depthOption = h(
+      'label',
+      { class: 'check small', title: 'Colour each frame’s depth with its own 2nd–98th percentiles (near structures keep their contrast) instead of one range for the whole video' },
+      this.depthToggle,
+      ' per-frame depth range',
+    );
     this.root = h(
       'div',
       { class: 'tracker', 'data-testid': 'tracker', 'data-state': 'idle', tabindex: -1 },
       h('aside', { class: 'tracker-side panel' }, this.setup.root, this.status),
-      h('section', { class: 'tracker-main tracker-panel', 'aria-label': 'Replay' }, this.controls.root, this.images.root),
+      h('section', { class: 'tracker-main tracker-panel', 'aria-label': 'Replay' }, this.controls.root, depthOption, this.images.root),
       h('aside', { class: 'tracker-data' }, this.frameData.root),
       h('div', { class: 'tracker-bottom' }, this.timeline.root, this.trajectories.root),
     );
@@ -85,13 +99,21 @@ export class TrackerView {
   async activate(hash: string): Promise<void> {
     const q = parseTrackerRoute(hash);
     if (this.params.length === 0) await this.loadLists(q.video);
+    if (q.depthPerFrame !== this.depthPerFrame) {
+      this.depthPerFrame = q.depthPerFrame;
+      this.depthToggle.checked = q.depthPerFrame;
+      this.stored?.setDepthRange(q.depthPerFrame ? undefined : this.videoDepthRange);
+    }
     if (q.run) {
       if (q.run !== this.stored?.info.run) await this.openRun(q.run, q.frame);
       else if (q.frame !== null && q.frame !== this.current) this.seek(q.frame);
       return;
     }
     const id = q.replay;
-    if (id && id !== this.replay?.id) await this.openById(id);
+    if (id && id !== this.replay?.id) {
+      this.pendingReplayFrame = q.frame;
+      await this.openById(id);
+    } else if (id && q.frame !== null && q.frame !== this.current) this.seek(q.frame);
   }
 
   /** The stored run this viewer shows (null in replay mode). */
@@ -125,6 +147,9 @@ export class TrackerView {
       const video = await trackerApi.video(row.video, signal);
       if (signal.aborted) return;
       const frames = video.frame_count;
+      this.videoDepthRange = video.depth_range_mm;
+      this.depthToggle.disabled = false;
+      this.depthToggle.title = '';
       const store = new FrameStore(frames);
       this.store = store;
       this.unsubscribe = store.subscribe(() => this.onStoreChange());
@@ -155,7 +180,7 @@ export class TrackerView {
           logFrames,
           videoHasTruth: video.has_truth !== false,
           colormap: this.setup.colormapValue,
-          ...(video.depth_range_mm ? { depthRange: video.depth_range_mm } : {}),
+          ...(video.depth_range_mm && !this.depthPerFrame ? { depthRange: video.depth_range_mm } : {}),
         },
         store,
         {
@@ -266,14 +291,18 @@ export class TrackerView {
     this.setup.setReplay(replay.id, `${replay.frames} frames${range ? ` · depth ${Math.round(range[0])}–${Math.round(range[1])} mm (${replay.colormap ?? 'colour map'})` : ''}`);
     this.root.dataset.replay = replay.id;
     this.root.dataset.state = 'connecting';
-    const next = trackerHash(replay.id);
+    const next = trackerHash(replay.id, this.pendingReplayFrame);
     if (window.location.hash !== next) history.replaceState(null, '', next);
+    // A live replay's pictures come with its one depth range (chosen when it started).
+    this.depthToggle.disabled = true;
+    this.depthToggle.title = 'A live replay sends its pictures with one depth range; open its stored run for per-frame ranges.';
 
     const socket = new ReplaySocket(replay.ws, {
       onHello: (m) => {
         this.root.dataset.state = 'ready';
         // A reconnect starts a fresh cursor at frame 0: go back to where this viewer was.
-        const resume = this.current;
+        const resume = this.pendingReplayFrame ?? this.current;
+        this.pendingReplayFrame = null;
         this.onState(m.state);
         if (resume > 0 && m.state.frame !== resume) this.seek(resume);
       },
@@ -356,6 +385,15 @@ export class TrackerView {
     else if (!this.socket?.send(op)) this.setStatus('Not connected to a replay.', true);
   }
 
+  private setDepthPerFrame(on: boolean) {
+    this.depthPerFrame = on;
+    this.root.dataset.depthPerFrame = String(on);
+    if (!this.stored) return;
+    this.stored.setDepthRange(on ? undefined : this.videoDepthRange);
+    const next = trackerRunHash(this.stored.info.run, this.current, on);
+    if (window.location.hash !== next) history.replaceState(null, '', next);
+  }
+
   /** Every view's seek. The cursor moves at once; the server's frame follows. */
   private seek(frame: number) {
     const n = this.frameCount;
@@ -371,9 +409,10 @@ export class TrackerView {
     this.controls.setState(s);
     this.root.dataset.playing = String(s.playing);
     if (s.frame !== this.current) this.setCurrent(s.frame);
-    if (this.stored && !s.playing) {
-      // The URL follows a stored run's cursor (not while playing: browsers throttle history updates).
-      const next = trackerRunHash(this.stored.info.run, s.frame);
+    if (!s.playing && (this.stored || this.replay)) {
+      // The URL follows the cursor of a stored run or a live replay (not while playing: browsers throttle
+      // history updates).
+      const next = this.stored ? trackerRunHash(this.stored.info.run, s.frame, this.depthPerFrame) : trackerHash(this.replay!.id, s.frame > 0 ? s.frame : null);
       if (window.location.hash !== next) history.replaceState(null, '', next);
     }
     if (this.done) this.maybeFetchRun();

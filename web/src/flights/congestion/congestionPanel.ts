@@ -14,6 +14,7 @@ import type { Clock } from '../clock';
 import type { MapView } from '../map';
 import type { Store } from '../state';
 import { congestionApi } from './api';
+import { validateFilters } from '../../api/query';
 import { CongestionLayer } from './congestionLayer';
 import {
   CLASS_STYLE,
@@ -309,6 +310,11 @@ export class CongestionPanel {
   private async start() {
     const body = this.body();
     if (!body) return;
+    const problem = validateFilters(this.deps.store.get().filters);
+    if (problem) {
+      this.showError(new ApiError(400, { error: 'invalid_argument', ...problem })); // never sent
+      return;
+    }
     this.clearError();
     this.startBtn.disabled = true;
     try {
@@ -620,7 +626,8 @@ export class CongestionPanel {
   private syncTiles() {
     const d = this.deps.store.dataset();
     const threshold = Number(this.mapThreshold.value);
-    const ok = d !== null && this.mapToggle.checked && threshold > 0;
+    // Filters the dashboard flags as invalid are never sent (the query's inline error says why).
+    const ok = d !== null && this.mapToggle.checked && threshold > 0 && validateFilters(this.deps.store.get().filters) === null;
     this.mapThreshold.toggleAttribute('aria-invalid', !(threshold > 0));
     if (!ok) {
       this.layer.setCongestionTiles(null);
