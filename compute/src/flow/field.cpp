@@ -11,6 +11,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "bundling/render/render_detail.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/geo/web_mercator.hpp"
 #include "trailscope/trails/point_filter.hpp"
@@ -32,21 +33,9 @@ void deposit(double ax, double ay, double bx, double by, int sector, const Grid&
   const double dx = bx - ax, dy = by - ay;
   const double len = std::hypot(dx, dy);
   if (!(len > 0)) return;
-  // Liang–Barsky clip to [0, nx] × [0, ny].
+  // Clipped to [0, nx] × [0, ny] (Liang–Barsky, as the bundle renderer clips its segments).
   double t0 = 0, t1 = 1;
-  const auto clip = [&](double p, double q) {
-    if (p == 0) return q >= 0;
-    const double r = q / p;
-    if (p < 0) {
-      if (r > t1) return false;
-      t0 = std::max(t0, r);
-    } else {
-      if (r < t0) return false;
-      t1 = std::min(t1, r);
-    }
-    return true;
-  };
-  if (!clip(-dx, ax) || !clip(dx, g.nx - ax) || !clip(-dy, ay) || !clip(dy, g.ny - ay) || !(t1 > t0)) return;
+  if (!bundling::detail::clip_parameters(ax, ay, dx, dy, 0, 0, g.nx, g.ny, t0, t1) || !(t1 > t0)) return;
   // Every crossing of an integer x or y line between t0 and t1.
   thread_local std::vector<double> ts;  // no allocation per segment
   ts.clear();
