@@ -1167,6 +1167,8 @@ int main(int argc, char** argv) {
                << " |\n";
         body << "\n";
       }
+    }
+
     // ---- 14. flow map (flow_bench) ------------------------------------------------------------------
     if (const json* r = find1("flow", {{"label", "so6_europe_day"}})) {
       const double s = dbl(r, "s_p50");
