@@ -218,6 +218,7 @@ void check_seam(const TrailSet& ts, TileId west, int kernel_radius) {
   //    tiles put side by side are the seamless image, within 1/255 (PNG round trip of equal numbers).
   const auto span = renderer.span_for(ts, "k", Query{}, rw);
   ShadeOptions so;
+  so.min_level = effective_min_level(rw);  // the tiles' shading: the count default's floor
   const Image strip = shade(rab, *span, so);
   int worst = 0, opaque = 0;
   for (int y = 0; y < 256; ++y) {
