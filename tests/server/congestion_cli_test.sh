@@ -110,14 +110,7 @@ done
 
 # The API's answer to the same request is the CLI's: a real server over the same data folder.
 use_token "$TMP/data"
-"$BIN" serve --data-dir "$TMP/data" --port 0 --host 127.0.0.1 --web-root /nonexistent > "$TMP/server.log" 2>&1 &
-SERVER_PID=$!
-for _ in $(seq 1 100); do
-  PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f2)
-  [ -n "$PORT" ] && break
-  sleep 0.1
-done
-URL="http://127.0.0.1:$PORT"
+start_server "$TMP/data"
 sid=$(curl -s -H 'Content-Type: application/geo+json' --data-binary @"$TMP/sectors.geojson" "$URL/api/v1/sectors?name=test" | json 'd["id"]')
 check "api: sectors stored" s1 "$sid"
 body='{"dataset":"syn","query":{"t0":"2018-01-01T00:00:00Z","t1":"2018-01-01T00:30:00Z"},"volumes":{"sectors":"'"$sid"'"},"compute":["occupancy","entries","hotspots","complexity","separation"]}'

@@ -63,14 +63,7 @@ done
 
 # The API's bytes are the CLI's: a real server over the same data folder.
 use_token "$TMP/data"
-"$BIN" serve --data-dir "$TMP/data" --port 0 --host 127.0.0.1 --web-root /nonexistent > "$TMP/server.log" 2>&1 &
-SERVER_PID=$!
-for _ in $(seq 1 100); do
-  PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f2)
-  [ -n "$PORT" ] && break
-  sleep 0.1
-done
-URL="http://127.0.0.1:$PORT"
+start_server "$TMP/data"
 curl -s -D "$TMP/h.txt" "$URL/api/v1/datasets/x/export?format=csv" > "$TMP/api.csv"
 check "api csv == cli csv" same "$(cmp -s "$TMP/api.csv" "$TMP/cli.csv" && echo same || echo differ)"
 contains "api export is chunked" "Transfer-Encoding: chunked" "$TMP/h.txt"

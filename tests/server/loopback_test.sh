@@ -6,29 +6,11 @@ BIN=$(readlink -f "$1")
 SHARED=$(readlink -f "$2")
 SO6="$SHARED/data/flights/traffic_europe_20180101_m3.so6.gz"
 TMP=$(mktemp -d)
-source "$(dirname "${BASH_SOURCE[0]}")/../support/cli_checks.sh"  # use_token, curl with the token
-PASS=0 FAIL=0
+source "$(dirname "${BASH_SOURCE[0]}")/../support/cli_checks.sh"  # check, json, start_server, use_token, curl
 SERVER_PID=
 cleanup() { [ -n "$SERVER_PID" ] && kill -9 "$SERVER_PID" 2>/dev/null; rm -rf "$TMP"; }
 trap cleanup EXIT
 
-check() {  # check NAME EXPECTED ACTUAL
-  if [ "$2" == "$3" ]; then PASS=$((PASS + 1)); echo "ok   $1"
-  else FAIL=$((FAIL + 1)); echo "FAIL $1: expected '$2', got '$3'"; fi
-}
-
-start() {
-  "$BIN" serve --data-dir "$TMP/data" --port 0 --host 127.0.0.1 --web-root /nonexistent > "$TMP/server.log" 2>&1 &
-  SERVER_PID=$!
-  for _ in $(seq 1 100); do
-    PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f2)
-    [ -n "$PORT" ] && break
-    sleep 0.1
-  done
-  URL="http://127.0.0.1:$PORT"
-}
-stop() { kill -TERM "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=; }
-json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
 wait_job() {
   for _ in $(seq 1 600); do
     state=$(curl -s "$URL/api/v1/jobs/$1" | json 'd["state"]')
@@ -39,7 +21,7 @@ wait_job() {
 }
 
 use_token "$TMP/data"
-start
+start_server "$TMP/data"
 check "health" ok "$(curl -s "$URL/api/v1/health" | json 'd["status"]')"
 
 # Streamed upload of the real Europe day, ingested as a job.
@@ -109,8 +91,8 @@ done
 check "replay run stored" 30 "$(curl -s "$URL/api/v1/runs/$run" | json 'd["summary"]["frames"]')"
 
 # Restart: the dataset is back.
-stop
-start
+stop_server
+start_server "$TMP/data"
 check "video survives restart" 30 "$(curl -s "$URL/api/v1/videos/$vid" | json 'd["frame_count"]')"
 check "run survives restart" 30 "$(curl -s "$URL/api/v1/runs/$run" | json 'd["summary"]["frames"]')"
 check "dataset survives restart" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
@@ -127,7 +109,7 @@ for _ in $(seq 1 100); do
   sleep 0.05
 done
 kill -9 "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=
-start
+start_server "$TMP/data"
 check "killed ingest left no dataset" 404 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets/killed")"
 check "earlier dataset intact" 11043 "$(curl -s "$URL/api/v1/datasets/europe" | json 'd["flights"]')"
 check "no leftovers in tmp/" 0 "$(ls "$TMP/data/tmp" | wc -l)"
@@ -136,7 +118,6 @@ check "no leftovers in uploads/" 0 "$(ls "$TMP/data/uploads" | wc -l)"
 # Delete.
 check "delete" 204 "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$URL/api/v1/datasets/europe")"
 check "deleted is gone" 404 "$(curl -s -o /dev/null -w '%{http_code}' "$URL/api/v1/datasets/europe")"
-stop
+stop_server
 
-echo "$PASS passed, $FAIL failed"
-[ "$FAIL" -eq 0 ]
+finish

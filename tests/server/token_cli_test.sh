@@ -60,23 +60,11 @@ done
 contains "create --help names --role" "reader | writer | admin" "$TMP/help.txt"
 
 # --- a real server ---------------------------------------------------------------------------------------
-start() {  # start DATA_DIR [flags...]
-  "$BIN" serve --data-dir "$1" --port 0 --host 127.0.0.1 --web-root /nonexistent "${@:2}" > "$TMP/server.log" 2>&1 &
-  SERVER_PID=$!
-  PORT=
-  for _ in $(seq 1 100); do
-    PORT=$(grep -oE 'at http://127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f3)
-    [ -n "$PORT" ] && break
-    sleep 0.1
-  done
-  URL="http://127.0.0.1:$PORT"
-}
-stop() { kill -TERM "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=; }
 code() { command curl -s -o "$TMP/body.json" -w '%{http_code}' "$@"; }  # code CURL_ARGS: the status
 as() { local t=$1; shift; code -H "Authorization: Bearer $t" "$@"; }   # as TOKEN CURL_ARGS
 
 # A data folder with no token: serve makes the first admin's and prints it once, with the sign-in URL.
-start "$TMP/fresh"
+start_server "$TMP/fresh"
 contains "first admin token printed" "first admin token (shown once, store it): tsk_" "$TMP/server.log"
 ADMIN=$(grep -oE 'tsk_[0-9a-f]{12}_[0-9a-f]{64}' "$TMP/server.log" | head -1)
 LOGIN=$(grep -oE "http://127\.0\.0\.1:$PORT/\?login=[0-9a-f]{64}" "$TMP/server.log" | head -1)
@@ -99,14 +87,14 @@ check "code works once" 401 \
   "$(code -H 'Content-Type: application/json' -d "{\"login\":\"$code\"}" "$URL/api/v1/session")"
 check "sign out" 204 "$(code -b "$TMP/jar" -X DELETE "$URL/api/v1/session")"
 check "cookie ended" 401 "$(code -b "$TMP/jar" "$URL/api/v1/tokens")"
-stop
+stop_server
 # Restarted over a folder with tokens: no new first token.
-start "$TMP/fresh"
+start_server "$TMP/fresh"
 check "no second first token" 0 "$(grep -c 'first admin token' "$TMP/server.log")"
-stop
+stop_server
 
 # Roles, and the CLI changing tokens under a running server.
-start "$D"
+start_server "$D"
 check "reader reads" 200 "$(as "$BOB" "$URL/api/v1/datasets")"
 check "reader may not delete" 403 "$(as "$BOB" -X DELETE "$URL/api/v1/datasets/nope")"
 check "403 detail" "this needs the writer role; token $BOB_ID ('bob') has the reader role" \
@@ -121,11 +109,11 @@ check "revoke message" "revoked token $ALICE_ID" "$(cat "$TMP/out.txt")"
 sleep 1.1  # the server stats tokens.json at most once a second
 check "token revoked by the CLI refused" 401 "$(as "$ALICE" -X DELETE "$URL/api/v1/datasets/nope")"
 check "wrong scheme" 401 "$(code -H "Authorization: Basic YTpi" "$URL/api/v1/datasets")"
-stop
-start "$D" --public-reads
+stop_server
+start_server "$D" --public-reads
 check "public reads" 200 "$(code "$URL/api/v1/datasets")"
 check "public reads: no anonymous delete" 401 "$(code -X DELETE "$URL/api/v1/datasets/nope")"
 check "public reads: tokens stay an admin's" 401 "$(code "$URL/api/v1/tokens")"
-stop
+stop_server
 
 finish

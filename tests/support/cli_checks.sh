@@ -28,3 +28,19 @@ curl() {
   if [ -n "${TRAILSCOPE_TOKEN:-}" ]; then command curl -H "Authorization: Bearer $TRAILSCOPE_TOKEN" "$@"
   else command curl "$@"; fi
 }
+
+# `start_server DATA_DIR [serve flags...]`: `$BIN serve` over DATA_DIR on a free loopback port, its output in
+# $TMP/server.log; sets SERVER_PID, PORT and URL once the server says where it listens (at most 10 s).
+# `stop_server` ends it with SIGTERM and waits for it. The script's EXIT trap kills SERVER_PID if it is left.
+start_server() {
+  "$BIN" serve --data-dir "$1" --port 0 --host 127.0.0.1 --web-root /nonexistent "${@:2}" > "$TMP/server.log" 2>&1 &
+  SERVER_PID=$!
+  PORT=
+  for _ in $(seq 1 100); do
+    PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f2)
+    [ -n "$PORT" ] && break
+    sleep 0.1
+  done
+  URL="http://127.0.0.1:$PORT"
+}
+stop_server() { kill -TERM "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=; }
