@@ -138,9 +138,13 @@ asan-configure: deps-fuzz
 	  $(shell command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 # The C++ tests under ASan + UBSan (gtest discovery runs the test binaries at build time: same options).
+# Left out there: the demo day's comparison of the two stores (17M points through the ClickHouse cluster,
+# 82 s in the release build): the Europe day's comparison runs the same code under the sanitizers, and the
+# demo day's would take several times longer, outside CI's time.
+ASAN_CTEST_EXCLUDE := ClickHouseStore.DemoDayAnswersTheSameOnBothBackends
 test-asan: asan-configure
 	$(SANITIZER_ENV) cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
-	cd $(ASAN_BUILD_DIR) && $(SANITIZER_ENV) ctest --output-on-failure -j $(JOBS)
+	cd $(ASAN_BUILD_DIR) && $(SANITIZER_ENV) ctest --output-on-failure -j $(JOBS) -E '$(ASAN_CTEST_EXCLUDE)'
 
 fuzz-build: asan-configure
 	cmake --build $(ASAN_BUILD_DIR) -j $(JOBS) --target fuzzers
