@@ -388,16 +388,7 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
     flush("segments", scols, rows), rows = 0;
     failpoint("clickhouse.before_catalogue");
     // The catalogue row, last: from now on the dataset is visible.
-    rb.str(ds->id), rb.num(now_version()), rb.num<std::uint8_t>(0), rb.str(ds->name), rb.str(ds->format),
-        rb.str(ds->created), rb.str(ds->owner), rb.str(ds->ingest.dump()), rb.num<std::uint64_t>(n),
-        rb.num<std::uint64_t>(nf);
-    client_.query(
-        "INSERT INTO " + db_ +
-            ".catalogue (id, version, deleted, name, format, created, owner, ingest, points, flights) "
-            "FORMAT RowBinary",
-        {{"insert_quorum", std::to_string(quorum_)},
-         {"insert_quorum_timeout", std::to_string(kQuorumTimeoutMs)}},
-        rb.buf);
+    write_catalogue_row(ds->id, false, Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest}, n, nf);
     report(1);
   } catch (...) {
     // Not in the catalogue: invisible; its rows go now or, if the cluster cannot be reached, at the next
@@ -415,6 +406,21 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
   loaded_[ds->id] = ds;
 }
 
+void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,
+                                          std::uint64_t points, std::uint64_t flights) {
+  RowBinary rb;
+  rb.str(id), rb.num(now_version()), rb.num<std::uint8_t>(deleted ? 1 : 0), rb.str(meta.name),
+      rb.str(meta.format), rb.str(meta.created), rb.str(meta.owner), rb.str(meta.ingest.dump()),
+      rb.num<std::uint64_t>(points), rb.num<std::uint64_t>(flights);
+  client_.query(
+      "INSERT INTO " + db_ +
+          ".catalogue (id, version, deleted, name, format, created, owner, ingest, points, flights) "
+          "FORMAT RowBinary",
+      {{"insert_quorum", std::to_string(quorum_)},
+       {"insert_quorum_timeout", std::to_string(kQuorumTimeoutMs)}},
+      rb.buf);
+}
+
 void ClickHouseStore::remove(const std::string& id) {
   Meta meta;
   {
@@ -424,17 +430,7 @@ void ClickHouseStore::remove(const std::string& id) {
     meta = it->second;
   }
   // The tombstone is one row, written at once: the dataset disappears whole.
-  RowBinary rb;
-  rb.str(id), rb.num(now_version()), rb.num<std::uint8_t>(1), rb.str(meta.name), rb.str(meta.format),
-      rb.str(meta.created), rb.str(meta.owner), rb.str(meta.ingest.dump()), rb.num<std::uint64_t>(0),
-      rb.num<std::uint64_t>(0);
-  client_.query(
-      "INSERT INTO " + db_ +
-          ".catalogue (id, version, deleted, name, format, created, owner, ingest, points, flights) "
-          "FORMAT RowBinary",
-      {{"insert_quorum", std::to_string(quorum_)},
-       {"insert_quorum_timeout", std::to_string(kQuorumTimeoutMs)}},
-      rb.buf);
+  write_catalogue_row(id, true, meta, 0, 0);
   {
     std::lock_guard lock(mu_);
     catalogue_.erase(id);

@@ -71,6 +71,10 @@ class ClickHouseStore final : public DatasetStore {
   };
   std::shared_ptr<const Dataset> load(const std::string& id, const Meta& meta) const;
   void drop_partitions(const std::string& id);
+  /// One catalogue row of `id` (a dataset, or with `deleted` its tombstone), written with the insert quorum:
+  /// the row that makes a dataset visible, or invisible, at once.
+  void write_catalogue_row(const std::string& id, bool deleted, const Meta& meta, std::uint64_t points,
+                           std::uint64_t flights);
   /// Whether some replica of some shard holds rows of `id` (system.parts).
   bool has_rows(const std::string& id) const;
   void create_tables();
