@@ -39,9 +39,11 @@ start() {
     "$BIN" serve --data-dir "$DATA" --port 0 --host 127.0.0.1 --web-root /nonexistent --backend cpu \
     >> "$RUN/server.log" 2>&1 &
   PORT=
-  for _ in $(seq 1 400); do
+  # Up to 90 s: the server reads every stored dataset before it listens, slow on a loaded CI machine.
+  for _ in $(seq 1 3600); do
     PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$RUN/server.log" | head -1 | cut -d: -f2)
     [ -n "$PORT" ] && [ -s "$RUN/pid" ] && break
+    [ -s "$RUN/exit" ] && break
     sleep 0.025
   done
   SERVER_PID=$(cat "$RUN/pid")

@@ -30,17 +30,29 @@ curl() {
 }
 
 # `start_server DATA_DIR [serve flags...]`: `$BIN serve` over DATA_DIR on a free loopback port, its output in
-# $TMP/server.log; sets SERVER_PID, PORT and URL once the server says where it listens (at most 10 s).
+# $TMP/server.log; sets SERVER_PID, PORT and URL once the server says where it listens. The server reads every
+# stored dataset before it listens, slow on a loaded CI machine running other tests beside this one: the wait
+# is START_SERVER_SECONDS (default 90 s). A server that does not
+# come up counts as a failed check, with its log, rather than leaving every later check to fail on an empty URL.
 # `stop_server` ends it with SIGTERM and waits for it. The script's EXIT trap kills SERVER_PID if it is left.
 start_server() {
-  "$BIN" serve --data-dir "$1" --port 0 --host 127.0.0.1 --web-root /nonexistent "${@:2}" > "$TMP/server.log" 2>&1 &
+  # Emptied here, not by the child's `>`: the child truncates only once it runs, and a restart's first look
+  # at the log could otherwise read the previous server's port.
+  : > "$TMP/server.log"
+  "$BIN" serve --data-dir "$1" --port 0 --host 127.0.0.1 --web-root /nonexistent "${@:2}" >> "$TMP/server.log" 2>&1 &
   SERVER_PID=$!
   PORT=
-  for _ in $(seq 1 100); do
+  local started=$SECONDS
+  while [ $((SECONDS - started)) -lt "${START_SERVER_SECONDS:-90}" ] && kill -0 "$SERVER_PID" 2>/dev/null; do
     PORT=$(grep -oE '127\.0\.0\.1:[0-9]+' "$TMP/server.log" | head -1 | cut -d: -f2)
     [ -n "$PORT" ] && break
     sleep 0.1
   done
   URL="http://127.0.0.1:$PORT"
+  if [ -z "$PORT" ]; then
+    FAIL=$((FAIL + 1))
+    echo "FAIL server started: no listening line after $((SECONDS - started)) s; its log:"
+    tail -20 "$TMP/server.log"
+  fi
 }
 stop_server() { kill -TERM "$SERVER_PID"; wait "$SERVER_PID" 2>/dev/null; SERVER_PID=; }

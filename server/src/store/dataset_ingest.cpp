@@ -28,7 +28,9 @@ std::shared_ptr<const Dataset> ingest_into_store(DatasetStore& store, const Inge
     throw Error(Error::Kind::conflict, "name", "dataset '" + req.name + "' already exists");
   ingest::IngestOptions opts;
   if (req.format) opts.format = ingest::parse_format(*req.format, "format");
-  opts.progress = progress;
+  // Reading and parsing take the first 97 % and the store the rest, so that the job's progress never goes
+  // back (the parser reports its own 0..1).
+  if (progress) opts.progress = [&progress](double f, std::string_view stage) { progress(0.97 * f, stage); };
   opts.split_jumps = req.split_jumps;
   opts.cancel = cancel;
   ingest::IngestReport report;
