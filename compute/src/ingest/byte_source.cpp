@@ -109,7 +109,9 @@ std::size_t ByteSource::raw_available(std::size_t want) {
   if (in_.size() >= want || raw_eof_) return in_.size();
   // A file: move what is left to the front of the buffer and read more behind it.
   const std::size_t keep = in_.size();
-  std::memmove(raw_.data(), in_.data(), keep);
+  // Nothing to keep on the first read: in_ may then be an empty view with a null data(), which memmove
+  // must not be given even for 0 bytes.
+  if (keep > 0) std::memmove(raw_.data(), in_.data(), keep);
   std::size_t have = keep;
   while (have < want && !raw_eof_) {
     const ssize_t n = ::read(fd_, raw_.data() + have, raw_.size() - have);
