@@ -72,11 +72,8 @@ GazeFilters parse_gaze_filters(const Request& req) {
         "t0_ms must be at least 0 (ms after each recording's first sample), got " + text(req, "t0_ms", ""));
   if (!(f.select.t1_ms > f.select.t0_ms))
     throw invalid_argument("t1_ms", "t1_ms must be later than t0_ms (the window is [t0_ms, t1_ms))");
-  if (auto it = req.query.find("method"); it != req.query.end()) {
-    if (it->second != "ivt" && it->second != "idt" && it->second != "adaptive")
-      throw invalid_argument("method", "method must be ivt, idt or adaptive, got '" + it->second + "'");
+  if (auto it = req.query.find("method"); it != req.query.end())
     f.events.method = gaze::parse_method(it->second, "method");
-  }
   for (const Threshold& t : kThresholds) {
     if (!req.query.count(t.query)) continue;
     const double v = number(req, t.query, 0);

@@ -41,7 +41,7 @@ std::vector<std::string> with_gaze_filter_keys(std::vector<std::string> extra);
 
 /// Parses the parameters above (syntax and ranges; values of the dataset are checked when the filter is
 /// applied). Throws invalid_argument naming the parameter: "recording: 'x' is not an integer",
-/// "method must be ivt, idt or adaptive, got 'x'", "velocity_threshold must be in (0, 5000], not -1", ...
+/// 'method must be ivt, idt or adaptive, not "x"', "velocity_threshold must be in (0, 5000], not -1", ...
 GazeFilters parse_gaze_filters(const Request& req);
 
 }  // namespace trailscope::server::params
