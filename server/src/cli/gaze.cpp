@@ -324,11 +324,12 @@ void add_gaze_delete(CLI::App* parent) {
 
 /// Which recordings and which time window the views read (gaze::GazeFilter, as the REST filters).
 struct ViewOpts {
-  std::optional<std::size_t> recording;
+  long long recording = -1;  // -1: every recording
   std::string only_participant, only_stimulus;
   double t0_ms = 0, t1_ms = std::numeric_limits<double>::infinity();
   void add_to(CLI::App* cmd) {
-    cmd->add_option("--recording", recording, "only this recording: index from 0, across the files in order");
+    cmd->add_option("--recording", recording, "only this recording: index from 0, across the files in order")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--only-participant", only_participant, "only the recordings of this participant");
     cmd->add_option("--only-stimulus", only_stimulus, "only the recordings of this stimulus");
     cmd->add_option("--t0-ms", t0_ms, "window start, ms after each recording's first sample")
@@ -337,7 +338,7 @@ struct ViewOpts {
   }
   gaze::GazeFilter filter() const {
     gaze::GazeFilter f;
-    f.recording = recording;
+    if (recording >= 0) f.recording = std::size_t(recording);
     if (!only_participant.empty()) f.participant = only_participant;
     if (!only_stimulus.empty()) f.stimulus = only_stimulus;
     f.t0_ms = t0_ms, f.t1_ms = t1_ms;
@@ -376,7 +377,7 @@ void add_gaze_tile(CLI::App* parent) {
     std::string out, what = "samples", how = "eq_hist", cmap = "fire";
     int z = 0, x = 0, y = 0;
     double kernel_radius = 0;
-    std::optional<double> min_level;
+    double min_level = std::numeric_limits<double>::quiet_NaN();  // unset: the default level
   };
   auto t = std::make_shared<TileOpts>();
   cmd->add_option("-o,--output", t->out, "PNG file to write")->required();
@@ -397,7 +398,7 @@ void add_gaze_tile(CLI::App* parent) {
     req.how = density::parse_how(t->how, "how");
     req.cmap = t->cmap;
     req.kernel_radius = t->kernel_radius;
-    req.min_level = t->min_level;
+    if (!std::isnan(t->min_level)) req.min_level = t->min_level;
     gazeview::validate(req);
     const gazeview::TileWhat what = gazeview::parse_tile_what(t->what, "what");
     const gaze::GazeDataset ds = merged(o->read());
