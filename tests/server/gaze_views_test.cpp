@@ -52,8 +52,8 @@ class GazeViewsTest : public test_routes::RouteFixture {
  protected:
   GazeViewsTest() {
     open(one_flight());
-    data = lund();
-    app->gaze->put("lund", "test-admin", "plain", data);
+    app->gaze->put("lund", "test-admin", "plain", lund());
+    data = app->gaze->get("lund");  // as stored (the reference binning must see the stored numbers)
   }
   void expect_detail(const Response& r, int status, const std::string& error, const std::string& param,
                      const std::string& detail) {
