@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "auth/token_store.hpp"
 #include "jobs/job_manager.hpp"
 #include "route_fixture.hpp"
 #include "store/gaze_file.hpp"
@@ -63,7 +64,16 @@ std::string tiny_csv() {
 
 class GazeStoreTest : public RouteFixture {
  protected:
-  void SetUp() override { open_app(); }
+  void SetUp() override {
+    writer = TokenStore(tmp.path() / "store" / "tokens.json").create("bob", Role::writer).token;
+    open_app();
+  }
+  /// A request of the writer "bob" (not the admin the router sends by default).
+  Response as_writer(const std::string& method, const std::string& path, std::string body = {},
+                     std::map<std::string, std::string> query = {}) {
+    return send(method, path, std::move(body), std::move(query), {{"authorization", "Bearer " + writer}});
+  }
+  std::string writer;
   void open_app() {
     router = Router();
     app.reset();
@@ -297,6 +307,26 @@ TEST_F(GazeStoreTest, DeleteRestartAndLeftovers) {
   GazeStore cli(tmp.path() / "store");
   EXPECT_TRUE(fs::exists(tmp.path() / "store" / "tmp" / "gaze.busy.1"));
   EXPECT_EQ(cli.size(), 2u);
+}
+
+TEST_F(GazeStoreTest, OnlyTheOwnerOrAnAdminDeletesOrChangesADataset) {
+  uploaded("admins", tiny_csv(), {{"stimulus", "s"}});
+  Response r = as_writer("DELETE", "/api/v1/gaze/admins");
+  expect_error(r, 403, "forbidden", "gaze");
+  EXPECT_EQ(body(r).at("detail"),
+            "gaze dataset 'admins' belongs to 'test-admin'; only its owner or an admin may delete it");
+  r = as_writer("PUT", "/api/v1/gaze/admins/stimulus", "x");
+  expect_error(r, 403, "forbidden", "gaze");
+  EXPECT_EQ(body(r).at("detail"),
+            "gaze dataset 'admins' belongs to 'test-admin'; only its owner or an admin may change it");
+  expect_error(as_writer("DELETE", "/api/v1/gaze/nope"), 404, "not_found", "gaze");  // 404 before 403
+  // The writer's own dataset: recorded as bob's, deleted by bob.
+  r = as_writer("POST", "/api/v1/gaze", tiny_csv(), {{"name", "bobs"}});
+  ASSERT_EQ(r.status, 202) << r.body;
+  EXPECT_EQ(app->jobs.wait(body(r).at("job").at("id").get<std::string>()).state, "done");
+  EXPECT_EQ(body(get("/api/v1/gaze/bobs")).at("owner"), "bob");
+  EXPECT_EQ(as_writer("DELETE", "/api/v1/gaze/bobs").status, 204);
+  EXPECT_EQ(send("DELETE", "/api/v1/gaze/admins").status, 204);
 }
 
 TEST_F(GazeStoreTest, TheBinaryFileRoundTripsAndRefusesDamage) {
