@@ -13,6 +13,7 @@
 #include "store/gaze_store.hpp"
 #include "trailscope/gaze/events.hpp"
 #include "trailscope/gaze/ingest.hpp"
+#include "trailscope/gaze/query.hpp"
 
 namespace trailscope::server::test_routes {
 namespace {
@@ -503,6 +504,48 @@ TEST_F(GazeStoreTest, StimulusImages) {
   // Still the first image; and after a restart.
   open_app();
   EXPECT_TRUE(get("/api/v1/gaze/lund/stimulus").body == png);
+}
+
+}  // namespace
+}  // namespace trailscope::server::test_routes
+
+namespace trailscope::server::test_routes {
+namespace {
+
+// The selection every gaze view shares (gaze/query.hpp), on a hand-made dataset: two participants, two
+// stimuli, recordings at 2 ms steps whose clocks start at different times.
+TEST(GazeSelection, RecordingsAndWindowsAsDefined) {
+  gaze::GazeDataset ds;
+  const auto rec = [&](const std::string& p, const std::string& s, double t0) {
+    gaze::Recording r;
+    r.participant = p, r.stimulus = s;
+    for (int i = 0; i < 10; ++i)
+      r.t_ms.push_back(t0 + 2 * i), r.x.push_back(i), r.y.push_back(0), r.valid.push_back(1);
+    ds.recordings.push_back(r);
+  };
+  rec("ann", "a.png", 1000), rec("ann", "b.png", 5000), rec("bob", "a.png", 0);
+  gaze::GazeFilter f;
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{0, 1, 2}));
+  f.participant = "ann";
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{0, 1}));
+  f.stimulus = "a.png";
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{0}));
+  f.participant = "bob", f.stimulus = "b.png";  // both exist, never together
+  EXPECT_TRUE(gaze::select_recordings(ds, f).empty());
+  f = {};
+  f.recording = 2;
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{2}));
+  // Windows count from each recording's first sample: [4, 10) ms is samples 2..4 whatever the clock.
+  f = {};
+  f.t0_ms = 4, f.t1_ms = 10;
+  for (const auto& r : ds.recordings)
+    EXPECT_EQ(gaze::window_samples(r, f), (std::pair<std::size_t, std::size_t>{2, 5}));
+  f.t0_ms = 100, f.t1_ms = 200;
+  EXPECT_EQ(gaze::window_samples(ds.recordings[0], f), (std::pair<std::size_t, std::size_t>{10, 10}));
+  f.t0_ms = 0, f.t1_ms = INFINITY;
+  EXPECT_EQ(gaze::window_samples(ds.recordings[0], f), (std::pair<std::size_t, std::size_t>{0, 10}));
+  f.t0_ms = -1;
+  EXPECT_THROW(gaze::select_recordings(ds, f), Error);
 }
 
 }  // namespace
