@@ -6,8 +6,12 @@
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "store/failpoint.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/trails/partial_reads.hpp"
+#include "trailscope/trails/quality.hpp"
 
 namespace trailscope::server {
 
@@ -52,6 +56,27 @@ struct RowReader {
     pos += sizeof(T);
     return v;
   }
+  /// An Array(T): its LEB128 length, then the values.
+  template <class T>
+  std::vector<T> array() {
+    const std::uint64_t n = length();
+    if (n > (data.size() - pos) / sizeof(T))
+      throw Error(Error::Kind::internal, "store", "ClickHouse: a truncated answer");
+    std::vector<T> v(n);
+    for (auto& x : v) x = num<T>();
+    return v;
+  }
+  std::uint64_t length() {
+    std::uint64_t n = 0;
+    for (int shift = 0;; shift += 7) {
+      need(1);
+      const auto byte = static_cast<std::uint8_t>(data[pos++]);
+      n |= std::uint64_t(byte & 0x7f) << shift;
+      if (!(byte & 0x80)) break;
+      if (shift > 56) throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed string length");
+    }
+    return n;
+  }
   std::string str() {
     std::uint64_t n = 0;
     for (int shift = 0;; shift += 7) {
@@ -73,6 +98,16 @@ std::int32_t hour_of(double t) {
   if (!std::isfinite(t)) return 0;
   const double h = std::floor(t / 3600.0);
   return h < -2147483648.0 ? INT32_MIN : h > 2147483647.0 ? INT32_MAX : static_cast<std::int32_t>(h);
+}
+
+/// A double as an SQL literal that reads back as the same double (17 significant digits; ClickHouse parses
+/// number literals with strtod, correctly rounded), in parentheses when negative.
+std::string sql_double(double v) {
+  if (!std::isfinite(v))
+    throw Error(Error::Kind::internal, "store", "ClickHouse: a bound that is not finite");
+  char b[40];
+  std::snprintf(b, sizeof b, v < 0 ? "(%.17g)" : "%.17g", v);
+  return b;
 }
 
 std::uint64_t now_version() {
@@ -404,6 +439,213 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
   std::lock_guard lock(mu_);
   catalogue_[ds->id] = Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest};
   loaded_[ds->id] = ds;
+}
+
+// ---- push-down ------------------------------------------------------------------------------------------
+
+bool ClickHouseStore::pushable(const Dataset& ds) {
+  std::size_t covered = 0;
+  std::uint32_t next = 0;
+  for (const Flight& f : ds.trails->flights()) {
+    if (f.begin != next) return false;
+    covered += f.size(), next = f.end;
+  }
+  return covered == ds.trails->num_points();
+}
+
+std::string ClickHouseStore::read(const std::string& sql) const {
+  // A flight-id list of every flight of a large dataset stays within the parser's limit (default 256 KiB).
+  // A dead replica is skipped after 200 ms instead of ClickHouse's 50 ms default, which a loaded machine
+  // can miss for a live one.
+  static const ClickHouseClient::Settings settings = {{"max_query_size", std::to_string(64u << 20)},
+                                                      {"connect_timeout_with_failover_ms", "200"}};
+  for (int attempt = 1;; ++attempt) {
+    try {
+      std::string out = client_.query(sql, settings);
+      ++reads_;
+      return out;
+    } catch (const ClickHouseError& e) {
+      const int c = e.code();
+      const bool network = c == 32 || c == 209 || c == 210 || c == 279;
+      if (!network || attempt == kReadAttempts) throw;
+      std::cerr << "store: a read failed on a replica that went away, again (" << attempt << "): " << e.what()
+                << "\n";
+      std::this_thread::sleep_for(std::chrono::milliseconds(200 * attempt));
+    }
+  }
+}
+
+std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) const {
+  // PointFilter (trails/point_filter.hpp) as SQL: Float32 columns compare as doubles, as there; NaN fails
+  // every comparison, as there.
+  std::string w = "dataset = " + ClickHouseClient::quote(ds.id);
+  if (q.t0) w += " AND hour >= " + std::to_string(hour_of(*q.t0)) + " AND t >= " + sql_double(*q.t0);
+  if (q.t1) w += " AND hour <= " + std::to_string(hour_of(*q.t1)) + " AND t < " + sql_double(*q.t1);
+  if (q.alt_min) w += " AND alt >= " + sql_double(*q.alt_min);
+  if (q.alt_max) w += " AND alt <= " + sql_double(*q.alt_max);
+  if ((q.alt_min || q.alt_max) && !(q.alt_min && q.alt_max)) w += " AND NOT isNaN(alt)";
+  if (q.bbox) {
+    const BBox& b = *q.bbox;
+    w += " AND lat >= " + sql_double(b.south) + " AND lat <= " + sql_double(b.north);
+    w += b.west > b.east ? " AND (lon >= " + sql_double(b.west) + " OR lon <= " + sql_double(b.east) + ")"
+                         : " AND lon >= " + sql_double(b.west) + " AND lon <= " + sql_double(b.east);
+  }
+  if (q.on_ground) w += std::string(" AND on_ground = ") + (*q.on_ground ? "1" : "0");
+  if (!q.icao24.empty() || !q.callsign.empty()) {
+    std::string ids;
+    const auto& flights = ds.trails->flights();
+    for (std::size_t f = 0; f < flights.size(); ++f)
+      if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    if (ids.empty()) return "";
+    w += " AND flight IN (" + ids + ")";
+  }
+  return w;
+}
+
+Summary ClickHouseStore::summarize(const Dataset& ds, const Query& q, const SummaryOptions& opts) const {
+  if (!pushable(ds)) return LocalReads{}.summarize(ds, q, opts);
+  const TrailSet& set = *ds.trails;
+  double top_alt = 0;
+  for (const Flight& f : set.flights())
+    if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
+  const SummaryLayout l = summary_layout(q, opts, set.t_min(), set.t_max(), top_alt);
+  SummaryCounts c(l, set.num_flights());
+  const std::string where = point_where(ds, q);
+  if (!where.empty()) {
+    // The bins exactly as summarize() computes them (SummaryCounts): the same double operations, on
+    // constants that read back bit for bit.
+    const std::string O = sql_double(l.t_origin), B = sql_double(l.bin_seconds),
+                      IB = sql_double(1.0 / l.bin_seconds), NT = std::to_string(l.time_bins),
+                      NA = std::to_string(l.alt_bins), NS = std::to_string(SummaryLayout::kSpeedBins);
+    // The last bin of each histogram, as UInt64 (least() takes no mix of signed and unsigned types).
+    auto last_bin = [](std::size_t n) { return "toUInt64(" + std::to_string(n - 1) + ")"; };
+    const std::string tb0 =
+        "least(toUInt64(greatest(0., (t - " + O + ") * " + IB + ")), " + last_bin(l.time_bins) + ")";
+    const std::string tb = "if(" + tb0 + " + 1 < " + NT + " AND t >= " + O + " + (" + tb0 + " + 1) * " + B +
+                           ", " + tb0 + " + 1, " + tb0 + ")";
+    const std::string ab = "(toFloat64(alt) * " + sql_double(l.alt_scale) + " + " +
+                           sql_double(SummaryLayout::kAltEdgeNudge) + ")";
+    // Unknown altitudes and speeds go to the key one past the last bin, dropped below.
+    const std::string akey = "if(isNaN(alt), " + NA + ", if(" + ab + " <= 0, 0, least(toUInt64(" + ab +
+                             "), " + last_bin(l.alt_bins) + ")))";
+    const std::string sb = "(toFloat64(speed) * 4)";
+    static_assert(SummaryLayout::kSpeedBin == 0.25);
+    const std::string skey = "if(isNaN(speed), " + NS + ", if(" + sb + " <= 0, 0, least(toUInt64(" + sb +
+                             "), " + last_bin(SummaryLayout::kSpeedBins) + ")))";
+    const std::string one = "[toUInt64(1)]";
+    const std::string sql =
+        "SELECT count(), min(t), max(t), countIf(NOT isNaN(speed)), sumIf(toFloat64(speed), NOT "
+        "isNaN(speed)), "
+        "minIf(speed, NOT isNaN(speed)), maxIf(speed, NOT isNaN(speed)), sumMap([toUInt32(" +
+        tb + ")], " + one + "), sumMap([toUInt32(" + akey + ")], " + one + "), sumMap([toUInt32(" + skey +
+        ")], " + one + "), sumMap([flight], " + one + ") FROM " + db_ + ".points WHERE " + where +
+        " FORMAT RowBinary";
+    const std::string body = read(sql);
+    RowReader r{body};
+    c.points = r.num<std::uint64_t>();
+    c.t_min = r.num<double>(), c.t_max = r.num<double>();
+    c.speed_n = r.num<std::uint64_t>();
+    c.speed_sum = r.num<double>();
+    c.speed_min = r.num<float>(), c.speed_max = r.num<float>();
+    auto histogram = [&](std::vector<std::uint64_t>& h) {
+      const auto keys = r.array<std::uint32_t>();
+      const auto counts = r.array<std::uint64_t>();
+      if (keys.size() != counts.size())
+        throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed map");
+      for (std::size_t i = 0; i < keys.size(); ++i)
+        if (keys[i] < h.size()) h[keys[i]] += counts[i];
+    };
+    histogram(c.time), histogram(c.alt), histogram(c.speed);
+    const auto fl = r.array<std::uint32_t>();
+    const auto fc = r.array<std::uint64_t>();
+    if (fl.size() != fc.size()) throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed map");
+    for (std::size_t i = 0; i < fl.size(); ++i)
+      if (fl[i] < c.matched.size()) c.matched[fl[i]] = static_cast<std::uint32_t>(fc[i]);
+  }
+  // Position jumps follow each flight's samples in order (see the header): on the server's copy.
+  return finish_summary(l, opts, std::move(c), set.flights(), check_quality(set, q));
+}
+
+FlightPage ClickHouseStore::list_flights(const Dataset& ds, const Query& q, std::size_t page,
+                                         std::size_t page_size, const FlightSort& sort) const {
+  if (!pushable(ds)) return LocalReads{}.list_flights(ds, q, page, page_size, sort);
+  if (page_size < 1 || page_size > limits::kMaxPageSize)
+    throw invalid_argument("page_size", "page_size must lie in 1..1000");
+  const auto& flights = ds.trails->flights();
+  std::vector<FlightRow> rows;
+  const std::string where = point_where(ds, q);
+  if (!where.empty()) {
+    const std::string body = read(
+        "SELECT flight, count(), min(t), max(t), maxIf(alt, NOT isNaN(alt)), countIf(NOT isNaN(alt)) FROM " +
+        db_ + ".points WHERE " + where + " GROUP BY flight FORMAT RowBinary");
+    RowReader r{body};
+    while (!r.done()) {
+      FlightRow row;
+      row.id = r.num<std::uint32_t>();
+      row.points = r.num<std::uint64_t>();
+      row.t_start = r.num<double>(), row.t_end = r.num<double>();
+      const float alt = r.num<float>();
+      row.alt_max_m = r.num<std::uint64_t>() ? alt : std::numeric_limits<double>::quiet_NaN();
+      if (row.id >= flights.size())
+        throw Error(Error::Kind::internal, "store", "ClickHouse: a flight out of range");
+      const Flight& f = flights[row.id];
+      row.duration_s = row.t_end - row.t_start;
+      row.flight_t_start = f.t_min, row.flight_t_end = f.t_max;
+      row.flight_duration_s = f.t_max - f.t_min;
+      row.flight_points = f.size();
+      rows.push_back(std::move(row));
+    }
+  }
+  return page_flights(std::move(rows), flights, page, page_size, sort);
+}
+
+Positions ClickHouseStore::positions_at(const Dataset& ds, double t, const Query& q,
+                                        std::size_t max_positions) const {
+  validate_positions_query(t, q);
+  if (!pushable(ds)) return LocalReads{}.positions_at(ds, t, q, max_positions);
+  // The flights present at t that the query may match, by their extents (as positions_at() skips them);
+  // their samples around t lie within the hours of their extents.
+  const auto& flights = ds.trails->flights();
+  std::string ids;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    const Flight& fl = flights[f];
+    if (!(fl.t_min <= t && t <= fl.t_max) || fl.begin == fl.end || !q.may_match(fl)) continue;
+    ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    lo = std::min(lo, fl.t_min), hi = std::max(hi, fl.t_max);
+  }
+  std::vector<Position> hits;
+  if (!ids.empty()) {
+    // Per flight: the first sample at exactly t, the last one before t and the first one after (by index,
+    // the flight's time order: lower_bound's choice among equal times).
+    const std::string T = sql_double(t);
+    const std::string row = "tuple(t, lat, lon, alt, speed, track, vrate, on_ground)";
+    const std::string body =
+        read("SELECT flight, countIf(t = " + T + "), argMinIf(" + row + ", idx, t = " + T + "), argMaxIf(" +
+             row + ", idx, t < " + T + "), argMinIf(" + row + ", idx, t > " + T + ") FROM " + db_ +
+             ".points WHERE dataset = " + ClickHouseClient::quote(ds.id) +
+             " AND hour >= " + std::to_string(hour_of(lo)) + " AND hour <= " + std::to_string(hour_of(hi)) +
+             " AND flight IN (" + ids + ") GROUP BY flight FORMAT RowBinary");
+    RowReader r{body};
+    auto sample = [&] {
+      PositionSample p;
+      p.t = r.num<double>();
+      p.lat = r.num<float>(), p.lon = r.num<float>(), p.alt = r.num<float>();
+      p.speed = r.num<float>(), p.track = r.num<float>(), p.vrate = r.num<float>();
+      p.on_ground = r.num<std::uint8_t>();
+      return p;
+    };
+    while (!r.done()) {
+      const auto flight = r.num<std::uint32_t>();
+      const auto exact = r.num<std::uint64_t>();
+      const PositionSample e = sample(), a = sample(), b = sample();
+      if (flight >= flights.size())
+        throw Error(Error::Kind::internal, "store", "ClickHouse: a flight out of range");
+      Position p;
+      if (position_from_samples(flight, exact ? &e : nullptr, a, b, t, q, p)) hits.push_back(std::move(p));
+    }
+  }
+  return finish_positions(t, std::move(hits), flights, max_positions);
 }
 
 void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,
