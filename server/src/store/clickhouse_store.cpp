@@ -461,8 +461,12 @@ std::string ClickHouseStore::read(const std::string& sql) const {
                                                       {"connect_timeout_with_failover_ms", "200"}};
   for (int attempt = 1;; ++attempt) {
     try {
+      const auto t0 = std::chrono::steady_clock::now();
       std::string out = client_.query(sql, settings);
       ++reads_;
+      if (observer_)
+        observer_(sql,
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       return out;
     } catch (const ClickHouseError& e) {
       const int c = e.code();

@@ -54,6 +54,7 @@
 //  patterns are not LIKE's. A dataset whose flights do not cover its points one to one (never made by the
 //  ingest) falls back to the computation on the server's copy.
 #include <atomic>
+#include <functional>
 #include <map>
 #include <mutex>
 
@@ -98,6 +99,11 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   ClickHouseClient& client() { return client_; }
   /// Pushed-down queries answered so far (read() calls that returned).
   std::uint64_t pushed_down_reads() const { return reads_; }
+  /// Told the SQL and wall time (ms) of every pushed-down query that returned (the benchmark's view of
+  /// what ClickHouse did for an answer). Set before the store is shared between threads.
+  void on_read(std::function<void(const std::string& sql, double ms)> observer) {
+    observer_ = std::move(observer);
+  }
   const std::string& database() const { return db_; }
   const std::string& cluster() const { return cluster_; }
 
@@ -138,6 +144,7 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   mutable std::map<std::string, std::shared_ptr<const Dataset>> loaded_;
   mutable std::mutex load_mu_;  ///< one dataset fetched at a time
   mutable std::atomic<std::uint64_t> reads_{0};
+  std::function<void(const std::string&, double)> observer_;
 };
 
 /// The store a `--store` option names: "" or "embedded" → the embedded store at `data_dir`;
