@@ -1215,9 +1215,8 @@ int main(int argc, char** argv) {
           << ", then each read the store runs on the shards three ways: **TrailScope** (the store's call and "
              "the JSON the route sends: SQL, merge, the summary's position jumps on the server's copy), "
              "**ClickHouse** (the same SQL alone through a plain HTTP client) and the **embedded** store "
-             "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1. Tiles are not pushed "
-             "down "
-             "(section 5 times ClickHouse's own line-density SQL).\n\n"
+             "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1; the tile's "
+             "is the shading and PNG on top of ClickHouse's line-density count (its level's span cached).\n\n"
              "| read | SQL queries | TrailScope p50 | ClickHouse p50 | overhead | embedded p50 | same bytes "
              "|\n"
              "|---|---|---|---|---|---|---|\n";

@@ -1,6 +1,7 @@
 // The server's overhead on the ClickHouse store: the Europe SO6 day put into a cluster (--store, e.g. the
 // URL tests/cluster/cluster.sh prints), then, for each read the routes push down to the shards (a
-// whole-day and a 1-hour summary, a 1-hour flight list, positions at an instant), three timings:
+// whole-day and a 1-hour summary, a 1-hour flight list, positions at an instant, a density tile), three
+// timings:
 //  - trailscope: the store's answer as the route serialises it (ClickHouseStore's DatasetReads call and
 //    to_json().dump(): the SQL, the merge with compute/'s finishing code, and what stays on the server —
 //    the summary's position jumps on the server's copy, the JSON);
@@ -8,9 +9,8 @@
 //    the same result, over the same HTTP interface;
 //  - embedded: compute/ on the same trails in this process (LocalReads), for scale.
 // overhead = trailscope p50 / clickhouse p50 − 1. Each answer is checked to be the embedded store's bytes.
-// Density tiles are not pushed down (the store draws them from its in-memory copy, as the embedded store
-// does), so there is no tile record: tile_bench's "clickhouse_lines" records time ClickHouse's own
-// line-density SQL.
+// The tile (z4 over Europe, count, no filter: the case the store aggregates on the shards) is timed with
+// its level's span already cached, as every tile of a zoom after the first.
 //
 //   clickhouse_store_bench --so6 PATH --store clickhouse://HOST:PORT[,...]/DB?cluster=NAME [--reps 15]
 //
@@ -71,6 +71,12 @@ int main(int argc, char** argv) {
     ClickHouseClient plain(url.hosts);
     const ClickHouseClient::Settings settings = {{"max_query_size", std::to_string(64u << 20)}};
     const LocalReads local;
+    // A density tile over Europe (z4, 256 px, count, eq_hist): its level's span is computed once and cached
+    // by the renderer, so the timings are the tile's aggregate, shading and PNG.
+    density::DensityRenderer renderer;
+    density::TileRequest tile;
+    tile.tile = geo::TileId{4, 8, 5};
+    tile.max_gap_seconds = std::numeric_limits<double>::infinity();  // as the tile route draws stored flights
 
     const double mid = std::floor((t.t_min() + t.t_max()) / 2 / 3600) * 3600;
     Query hour;
@@ -89,6 +95,8 @@ int main(int argc, char** argv) {
          [&](const DatasetReads& r) {
            return r.positions_at(*held, mid + 1800, {}, 100000).to_json().dump();
          }},
+        {"tile_4_8_5",
+         [&](const DatasetReads& r) { return r.density_tile(*held, renderer, "europe", {}, tile); }},
     };
     for (const Read& rd : reads) {
       sqls.clear();

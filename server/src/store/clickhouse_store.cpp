@@ -10,6 +10,7 @@
 
 #include "store/failpoint.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/density/tile_parts.hpp"
 #include "trailscope/trails/partial_reads.hpp"
 #include "trailscope/trails/quality.hpp"
 
@@ -650,6 +651,105 @@ Positions ClickHouseStore::positions_at(const Dataset& ds, double t, const Query
     }
   }
   return finish_positions(t, std::move(hits), flights, max_positions);
+}
+
+std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                                          const std::string& dataset_key, const Query& q,
+                                          const density::TileRequest& request) const {
+  namespace den = trailscope::density;
+  const bool whole = !q.t0 && !q.t1 && !q.alt_min && !q.alt_max && !q.bbox && !q.on_ground &&
+                     q.icao24.empty() && q.callsign.empty();
+  bool wraps = false;
+  for (const Flight& f : ds.trails->flights()) wraps = wraps || f.crosses_antimeridian;
+  if (!whole || wraps || request.value != den::DensityValue::count || request.kernel_radius != 0 ||
+      std::isfinite(request.max_gap_seconds) || !pushable(ds))
+    return LocalReads{}.density_tile(ds, renderer, dataset_key, q, request);
+  den::validate(request);
+  const std::shared_ptr<const den::SpanStats> span = renderer.span_for(*ds.trails, dataset_key, q, request);
+  const den::Canvas canvas = den::Canvas::for_tile(request.tile, request.size);
+  den::Aggregate agg = den::Aggregate::zeros(canvas.width(), canvas.height(), false);
+
+  // The pixels (c, r) of the global grid of pixel size P each segment touches, as density_lines() walks
+  // them (closed segment, half-open pixel squares): oriented left to right (lx <= hx), one row per pixel
+  // column c it crosses inside the tile, in that column x in [max(lx, cP), min(hx, (c+1)P)] (right end
+  // open at the column's edge), and, y being linear in x, the pixel rows between those of its two ends,
+  // y = ly ± (x − lx)·|dy| / dx done exactly in UInt64 with intDiv and the remainder; then one row per
+  // pixel row. A segment that continues its flight's run (its first point is not the flight's first)
+  // leaves out the pixel of its first endpoint. (Bresenham-free column sweep; the same SQL as
+  // tests/bench/bench_util.hpp peer_line_tile_sql.)
+  const std::int64_t P = canvas.pixel_units(), x0 = canvas.origin_x(), y0 = canvas.origin_y();
+  const std::int64_t C0 = x0 / P, R0 = y0 / P, W = canvas.width(), H = canvas.height();
+  const std::string sP = std::to_string(P), sC0 = std::to_string(C0), sR0 = std::to_string(R0),
+                    sCmax = std::to_string(C0 + W - 1), sRmax = std::to_string(R0 + H - 1);
+  std::string begins;
+  for (const Flight& f : ds.trails->flights())
+    begins += (begins.empty() ? "" : ",") + std::to_string(f.begin);
+  const std::string segs =
+      "SELECT NOT (idx IN (" + begins +
+      ")) AS cont, toInt64(x0) AS xa, toInt64(y0) AS ya, toInt64(x1) AS xb, "
+      "toInt64(y1) AS yb, intDiv(xa, " +
+      sP + ") AS pa_c, intDiv(ya, " + sP +
+      ") AS pa_r, "
+      "xa <= xb AS fwd, if(fwd, xa, xb) AS lx, if(fwd, ya, yb) AS ly, if(fwd, xb, xa) AS hx, if(fwd, yb, ya) "
+      "AS hy, "
+      "hx - lx AS dx, hy - ly AS dy, toUInt64(abs(dy)) AS ady, toUInt64(greatest(dx, 1)) AS ddx, "
+      "greatest(intDiv(lx, " +
+      sP + "), " + sC0 + ") AS c_lo, least(intDiv(hx, " + sP + "), " + sCmax +
+      ") AS c_hi "
+      "FROM " +
+      db_ + ".segments WHERE dataset = " + ClickHouseClient::quote(ds.id) +
+      " AND greatest(x0, x1) >= " + std::to_string(x0) + " AND least(x0, x1) < " +
+      std::to_string(canvas.end_x()) + " AND greatest(y0, y1) >= " + std::to_string(y0) +
+      " AND least(y0, y1) < " + std::to_string(canvas.end_y());
+  const std::string cols =
+      "SELECT cont, pa_c, pa_r, lx, ly, hx, dx, dy, ady, ddx, "
+      "c_lo + toInt64(arrayJoin(range(toUInt64(greatest(c_hi - c_lo + 1, 0))))) AS c FROM (" +
+      segs + ")";
+  const std::string rows =
+      "SELECT cont, pa_c, pa_r, c, greatest(lx, c * " + sP + ") AS xl, least(hx, (c + 1) * " + sP +
+      ") AS xr, "
+      "hx >= (c + 1) * " +
+      sP +
+      " AS open_r, "
+      "toUInt64(xl - lx) * ady AS ul, toUInt64(xr - lx) * ady AS ur, "
+      "toInt64(intDiv(ul, ddx)) AS ql, ul % ddx AS ml, toInt64(intDiv(ur, ddx)) AS qr, ur % ddx AS mr, "
+      "toInt64(multiIf(dx = 0, intDiv(least(ly, ly + dy), " +
+      sP + "), dy >= 0, intDiv(ly + ql, " + sP +
+      "), "
+      "intDiv(ly - ql - (ml > 0), " +
+      sP +
+      "))) AS j_l, "
+      "toInt64(multiIf(dx = 0, intDiv(greatest(ly, ly + dy), " +
+      sP + "), dy > 0, intDiv(ly + qr, " + sP + ") - (open_r AND mr = 0 AND (ly + qr) % " + sP +
+      " = 0), dy = 0, intDiv(ly, " + sP +
+      "), "
+      "intDiv(ly - qr - (mr > 0), " +
+      sP +
+      "))) AS j_r, "
+      "greatest(least(j_l, j_r), " +
+      sR0 + ") AS r_lo, least(greatest(j_l, j_r), " + sRmax + ") AS r_hi FROM (" + cols + ")";
+  const std::string pix =
+      "SELECT cont, pa_c, pa_r, c, r_lo + toInt64(arrayJoin(range(toUInt64(greatest(r_hi - r_lo + 1, 0))))) "
+      "AS r "
+      "FROM (" +
+      rows + ")";
+  const std::string sql = "SELECT toUInt32((r - " + sR0 + ") * " + std::to_string(W) + " + (c - " + sC0 +
+                          ")) AS pos, toUInt32(count()) FROM (" + pix +
+                          ") WHERE NOT (cont AND c = pa_c AND r = pa_r) GROUP BY pos FORMAT RowBinary";
+  const std::string body = read(sql);
+  RowReader r{body};
+  while (!r.done()) {
+    const auto pos = r.num<std::uint32_t>();
+    const auto n = r.num<std::uint32_t>();
+    if (pos >= agg.count.size())
+      throw Error(Error::Kind::internal, "store", "ClickHouse: a pixel outside the tile");
+    agg.count[pos] = static_cast<std::int32_t>(n);
+  }
+  den::AggregateOptions options;
+  options.value = request.value;
+  options.kernel_radius = request.kernel_radius;
+  options.max_gap_seconds = request.max_gap_seconds;
+  return std::move(den::shade_tile(den::finish_aggregate(agg, canvas, options), *span, request).png);
 }
 
 void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,

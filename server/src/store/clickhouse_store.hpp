@@ -30,7 +30,7 @@
 //
 // Push-down: the scans over points run on the shards, as SQL over the Distributed tables, and the server
 // only merges their partial answers with compute/'s own finishing code, so the bytes equal the embedded
-// store's (tests/cluster/clickhouse_store_test.cpp compares them on the Europe SO6 day):
+// store's (tests/cluster/clickhouse_store_test.cpp compares them on the Europe SO6 day and the demo day):
 //  - summarize(): one query gives the counts, first/last time, the speed count/sum/min/max and, with
 //    sumMap, the time, altitude and speed histograms (bins computed in SQL with the same IEEE double
 //    operations as trails/summary.cpp: see SummaryCounts) and the matching points per flight; the server
@@ -53,6 +53,18 @@
 //  matched on the server against the flight table (a list of flight ids in WHERE), since callsign_matches()'
 //  patterns are not LIKE's. A dataset whose flights do not cover its points one to one (never made by the
 //  ingest) falls back to the computation on the server's copy.
+//  - density_tile(): the count tile of the whole dataset (no query filter, value=count, no kernel, every
+//    segment drawn, no flight across 180°): one query over the segment table gives each pixel's count,
+//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them
+//    (the SQL of tests/bench/bench_util.hpp peer_line_tile_sql, checked there pixel for pixel); the first
+//    pixel of a segment that continues its flight's run is left out. The server shades it with the level's
+//    shared span (computed once per zoom on the server's copy and cached by the renderer) through
+//    finish_aggregate() and shade_tile(). Every other tile falls back to the server's copy: a query filter
+//    decides per sample which segments are drawn and where runs break, which needs each segment's
+//    neighbours (no window functions in 18.16); altitude/speed values and kernels are not expressed; a
+//    segment across 180° is drawn with its wrapped copies.
+// Not pushed down: the legend, bundles, flight GeoJSON, exports, animation, congestion and the other routes:
+// they read the copy get() fetched.
 #include <atomic>
 #include <functional>
 #include <map>
@@ -89,6 +101,9 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
                           const FlightSort& sort) const override;
   Positions positions_at(const Dataset& ds, double t, const Query& q,
                          std::size_t max_positions) const override;
+  std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                           const std::string& dataset_key, const Query& q,
+                           const density::TileRequest& request) const override;
 
   static constexpr std::size_t kBatchRows = 1u << 20;
   /// How long an insert waits for every replica of its shard (insert_quorum_timeout) before it fails.

@@ -16,6 +16,12 @@ Positions LocalReads::positions_at(const Dataset& ds, double t, const Query& q,
   return trailscope::positions_at(*ds.trails, t, q, max_positions);
 }
 
+std::string LocalReads::density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                                     const std::string& dataset_key, const Query& q,
+                                     const density::TileRequest& request) const {
+  return std::move(renderer.render_tile(*ds.trails, dataset_key, q, request).png);
+}
+
 const DatasetReads& reads_of(const DatasetStore& store) {
   static const LocalReads local;
   if (const auto* own = dynamic_cast<const DatasetReads*>(&store)) return *own;

@@ -1,6 +1,6 @@
 #pragma once
-// The reads the window routes answer from (summary, flight list, positions at an instant), beside the
-// DatasetStore interface (dataset_store.hpp): a backend that can compute them where its rows are
+// The reads the window routes answer from (summary, flight list, positions at an instant, density tiles),
+// beside the DatasetStore interface (dataset_store.hpp): a backend that can compute them where its rows are
 // implements DatasetReads too (the ClickHouse store, clickhouse_store.hpp, runs them on its shards);
 // every other store is read by LocalReads, the computation on the dataset's trails in this process (the
 // embedded store's). A route calls reads_of(*app.store).one_function(...) and never computes on
@@ -8,6 +8,7 @@
 #include <cstddef>
 
 #include "store/dataset_store.hpp"
+#include "trailscope/density/renderer.hpp"
 #include "trailscope/trails/positions.hpp"
 #include "trailscope/trails/query.hpp"
 #include "trailscope/trails/summary.hpp"
@@ -28,6 +29,11 @@ class DatasetReads {
   /// trails/positions.hpp positions_at().
   virtual Positions positions_at(const Dataset& ds, double t, const Query& q,
                                  std::size_t max_positions) const = 0;
+  /// density/renderer.hpp DensityRenderer::render_tile() of `renderer` (the server's one, whose span
+  /// cache `dataset_key` keys); the tile's PNG bytes.
+  virtual std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                                   const std::string& dataset_key, const Query& q,
+                                   const density::TileRequest& request) const = 0;
 };
 
 /// compute/'s functions on ds.trails, in this process.
@@ -38,6 +44,9 @@ class LocalReads final : public DatasetReads {
                           const FlightSort& sort) const override;
   Positions positions_at(const Dataset& ds, double t, const Query& q,
                          std::size_t max_positions) const override;
+  std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                           const std::string& dataset_key, const Query& q,
+                           const density::TileRequest& request) const override;
 };
 
 /// The reads of `store`: its own when it implements DatasetReads, else LocalReads. Never throws.
