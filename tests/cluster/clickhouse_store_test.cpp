@@ -560,11 +560,18 @@ TEST(ClickHouseStoreFaults, PushedDownQueriesAnswerTheSameWhileOneReplicaPerShar
   w.t0 = mid - 3600, w.t1 = mid;
   Query band;
   band.alt_min = 3050, band.alt_max = 3150, band.callsign = "T1*";
+  // A count tile over the flights (the kind the store aggregates on the shards), its span cached by the
+  // renderer after the first request.
+  density::DensityRenderer renderer;
+  density::TileRequest tile;
+  tile.tile = geo::TileId{5, 15, 11};
+  tile.max_gap_seconds = std::numeric_limits<double>::infinity();
   // The expected answers from compute/ over the dataset's trails (the embedded store's path).
   const std::vector<std::string> expected = {summarize(t, w, {}).to_json().dump(),
                                              summarize(t, band, {}).to_json().dump(),
                                              list_flights(t, w, 0, 1000, {}).to_json().dump(),
-                                             positions_at(t, mid - 60, {}, 100000).to_json().dump()};
+                                             positions_at(t, mid - 60, {}, 100000).to_json().dump(),
+                                             renderer.render_tile(t, "stream", {}, tile).png};
   auto ask = [&](const ClickHouseStore& s, std::size_t k) {
     switch (k) {
       case 0:
@@ -573,11 +580,14 @@ TEST(ClickHouseStoreFaults, PushedDownQueriesAnswerTheSameWhileOneReplicaPerShar
         return s.summarize(*held, band, {}).to_json().dump();
       case 2:
         return s.list_flights(*held, w, 0, 1000, {}).to_json().dump();
-      default:
+      case 3:
         return s.positions_at(*held, mid - 60, {}, 100000).to_json().dump();
+      default:
+        return s.density_tile(*held, renderer, "stream", {}, tile);
     }
   };
   ASSERT_GT(nlohmann::json::parse(expected[0])["points"].get<std::uint64_t>(), 10000u);
+  ASSERT_GT(renderer.render_tile(t, "stream", {}, tile).max_count, 0u) << "the tile misses the flights";
   for (std::size_t k = 0; k < expected.size(); ++k) ASSERT_EQ(ask(*store, k), expected[k]) << k;
 
   // A stream of queries through the URL's host list in its order (node 0 first); replica 1 of each shard
