@@ -1210,6 +1210,40 @@ int main(int argc, char** argv) {
            << grouped(r, "peak_rss_mib") << " MiB |\n\n";
     }
 
+    // ---- 15. the ClickHouse store's pushed-down reads vs ClickHouse's own SQL (clickhouse_store_bench) --
+    if (const auto reads = find("clickhouse_store_read"); !reads.empty()) {
+      const json* put = find1("clickhouse_store_put");
+      double worst = 0;
+      for (const json* r : reads)
+        if (r->value("read", "") == "summary_1h" || r->value("read", "") == "summary_whole_day")
+          worst = std::max(worst, dbl(r, "overhead"));
+      targets.push_back({"15",
+                         "server overhead on the ClickHouse store (summaries, p50 vs ClickHouse's own SQL)",
+                         "<= 20 %", num(worst * 100, 0) + " %", worst <= 0.20});
+      body << "## 15. The ClickHouse store: pushed-down reads against ClickHouse's own SQL\n\n"
+              "`clickhouse_store_bench` on a local cluster of 2 shards × 2 replicas "
+              "(`tests/cluster/cluster.sh`, "
+              "this machine): the Europe SO6 day put into it";
+      if (put)
+        body << " (" << grouped(put, "points") << " points, " << ms(put, "put_ms") << " ms, "
+             << grouped(put, "points_per_s") << " points/s with the segments)";
+      body
+          << ", then each read the store runs on the shards three ways: **TrailScope** (the store's call and "
+             "the JSON the route sends: SQL, merge, the summary's position jumps on the server's copy), "
+             "**ClickHouse** (the same SQL alone through a plain HTTP client) and the **embedded** store "
+             "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1; the tile's "
+             "is the shading and PNG on top of ClickHouse's line-density count (its level's span cached).\n\n"
+             "| read | SQL queries | TrailScope p50 | ClickHouse p50 | overhead | embedded p50 | same bytes "
+             "|\n"
+             "|---|---|---|---|---|---|---|\n";
+      for (const json* r : reads)
+        body << "| " << str(r, "read") << " | " << str(r, "sql_queries") << " | "
+             << ms(r, "trailscope_ms_p50") << " ms | " << ms(r, "clickhouse_ms_p50") << " ms | "
+             << num(dbl(r, "overhead") * 100, 0) << " % | " << ms(r, "embedded_ms_p50") << " ms | "
+             << (r->value("match_embedded", false) ? "yes" : "**NO**") << " |\n";
+      body << "\n";
+    }
+
     // ---- fuzzing: the long run of every libFuzzer harness (tests/fuzz, `make fuzz-long`) ----------------
     // Not measured by this script: each `make fuzz-long` appends one segment per harness to
     // tests/fuzz/long_run.jsonl (tests/fuzz/run.sh --long), which is committed and shown here when present

@@ -223,6 +223,23 @@ if [ "$CH_STARTED" = 1 ]; then
   CH_STARTED=0
 fi
 
+# --- the ClickHouse store on a local 2 x 2 cluster: its pushed-down reads against ClickHouse's own SQL ---
+say "4c. the ClickHouse store (2 shards x 2 replicas): pushed-down reads vs ClickHouse's own SQL for them"
+if command -v clickhouse-server >/dev/null && [ -f /usr/share/java/zookeeper.jar ]; then
+  BCL_ENV=(CLUSTER_DIR="$OUT/cluster" CLUSTER_PORT="$(free_port 29600 43)" CLUSTER_FRESH=1)
+  record env "${BCL_ENV[@]}" bash tests/cluster/cluster.sh up
+  BCL_URL=$(env "${BCL_ENV[@]}" bash tests/cluster/cluster.sh up | sed -n 's/^--store //p')
+  cmake --build "$BUILD_DIR" -j "$(nproc)" --target clickhouse_store_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+  run "$B/clickhouse_store_bench" --so6 "$SO6" --store "$BCL_URL" --reps "${CH_STORE_REPS:-15}"
+  for f in "$OUT"/cluster/node?/pid "$OUT"/cluster/zk/pid; do  # their CPU is ours, not other people's
+    [ -f "$f" ] && OWN_EXTRA_CPU=$(awk -v a="$OWN_EXTRA_CPU" -v b="$(proc_cpu_s "$(cat "$f")")" 'BEGIN { printf "%.2f", a + b }')
+  done
+  record env "${BCL_ENV[@]}" bash tests/cluster/cluster.sh down
+  env "${BCL_ENV[@]}" bash tests/cluster/cluster.sh down
+else
+  echo "clickhouse-server or zookeeper not installed (make deps-cluster): the ClickHouse store bench is skipped" | tee -a "$LOG" >&2
+fi
+
 # ---------------------------------------------------------------------------------------------------
 say "5. CUBu bundling (default parameters: 512 px, h = 32, 15 iterations)"
 BD=$ROOT/../shared/data/bundling

@@ -4,6 +4,7 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/density/kde.hpp"
+#include "trailscope/density/tile_parts.hpp"
 
 namespace trailscope::density {
 
@@ -18,8 +19,17 @@ AggregateResult aggregate(const TrailSet& trails, const Query& query, const Canv
   const LineSegments segments =
       prepare_line_segments(trails, query, work, options.value, options.max_gap_seconds);
   const Aggregate agg = density_lines(segments, options.backend);
-  AggregateResult out;
+  AggregateResult out = finish_aggregate(agg, work, options);
   out.segments = segments.size();
+  return out;
+}
+
+AggregateResult finish_aggregate(const Aggregate& agg, const Canvas& work, const AggregateOptions& options) {
+  const double r = options.kernel_radius;
+  if (!(r >= 0.0) || r > limits::kMaxKernelRadiusPx)
+    throw invalid_argument(
+        "kernel_radius", "kernel radius must be in 0.." + std::to_string(limits::kMaxKernelRadiusPx) + " px");
+  AggregateResult out;
   out.path = agg.path;
   out.max_count = max_count_inner(agg, work.margin());
   out.raster =

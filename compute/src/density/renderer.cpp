@@ -12,6 +12,7 @@
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/text.hpp"
 #include "trailscope/density/colormap.hpp"
+#include "trailscope/density/tile_parts.hpp"
 #include "trailscope/geo/web_mercator.hpp"
 
 namespace trailscope::density {
@@ -299,6 +300,15 @@ TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::strin
   options.max_gap_seconds = request.max_gap_seconds;
   options.backend = request.backend;
   const AggregateResult res = aggregate(trails, query, Canvas::for_tile(request.tile, request.size), options);
+  const bool cached = out.span_cached;
+  out = shade_tile(res, *span, request);
+  out.span_cached = cached;
+  out.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  return out;
+}
+
+TileResult shade_tile(const AggregateResult& res, const SpanStats& span, const TileRequest& request) {
+  TileResult out;
   out.max_count = static_cast<std::uint64_t>(res.max_count);
   out.path = to_string(res.path);
   out.empty = res.raster.valid_count() == 0;
@@ -310,9 +320,8 @@ TileResult DensityRenderer::render_tile(const TrailSet& trails, const std::strin
     shade_options.cmap = request.cmap;
     shade_options.alpha_ramp = request.alpha_ramp;
     shade_options.min_level = effective_min_level(request);
-    out.png = encode_png(shade(res.raster, *span, shade_options));
+    out.png = encode_png(shade(res.raster, span, shade_options));
   }
-  out.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return out;
 }
 

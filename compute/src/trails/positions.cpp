@@ -9,18 +9,12 @@
 
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/json_text.hpp"
+#include "trailscope/trails/partial_reads.hpp"
 
 namespace trailscope {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// The numbers of one hit; names are copied only once the count is known to be within the cap.
-struct Hit {
-  std::uint32_t flight = 0;
-  double lat = 0, lon = 0, alt = 0, speed = 0, track = 0, vrate = 0;
-  bool on_ground = false, exact = false;
-};
 
 // a + (b - a)·w, unknown when either end is.
 double lerp(float a, float b, double w) {
@@ -76,21 +70,75 @@ nlohmann::json properties(const Position& p) {
 }
 }  // namespace
 
-Positions positions_at(const TrailSet& set, double t, const Query& q, std::size_t max_positions) {
+void validate_positions_query(double t, const Query& q) {
   if (!std::isfinite(t)) throw invalid_argument("t", "t: the instant must be a finite time");
   // An instant is not a window: say so rather than silently ignore a filter the client believes in.
   if (q.t0)
     throw invalid_argument("t0", "t0 does not apply to positions at an instant: give the instant as t");
   if (q.t1)
     throw invalid_argument("t1", "t1 does not apply to positions at an instant: give the instant as t");
+}
+
+bool position_from_samples(std::uint32_t flight_id, const PositionSample* exact, const PositionSample& a,
+                           const PositionSample& b, double t, const Query& q, Position& h) {
+  h.flight_id = flight_id;
+  if (exact) {
+    const PositionSample& e = *exact;
+    h.exact = true;
+    h.lat = e.lat, h.lon = e.lon;
+    h.alt_m = value(e.alt), h.speed_ms = value(e.speed);
+    h.track_deg = value(e.track), h.vrate_ms = value(e.vrate);
+    h.on_ground = e.on_ground != 0;
+  } else {
+    const double w = (t - a.t) / (b.t - a.t);
+    h.exact = false;
+    h.lat = lerp(a.lat, b.lat, w);
+    h.lon = lerp_lon(a.lon, b.lon, w);
+    h.alt_m = lerp(a.alt, b.alt, w);
+    h.speed_ms = lerp(a.speed, b.speed, w);
+    h.track_deg = lerp_track(a.track, b.track, w);
+    h.vrate_ms = lerp(a.vrate, b.vrate, w);
+    h.on_ground = a.on_ground != 0;
+  }
+  if (q.bbox && !q.bbox->contains(h.lat, h.lon)) return false;
+  if (q.alt_min || q.alt_max) {
+    const double lo = q.alt_min.value_or(-std::numeric_limits<double>::infinity());
+    const double hi = q.alt_max.value_or(std::numeric_limits<double>::infinity());
+    if (!(h.alt_m >= lo && h.alt_m <= hi)) return false;  // NaN fails too
+  }
+  if (q.on_ground && h.on_ground != *q.on_ground) return false;
+  return true;
+}
+
+Positions finish_positions(double t, std::vector<Position> hits, const std::vector<Flight>& flights,
+                           std::size_t max_positions) {
+  if (hits.size() > max_positions)
+    throw Error(Error::Kind::payload_too_large, "max_positions",
+                std::to_string(hits.size()) +
+                    " flights match at t, more than max_positions=" + std::to_string(max_positions) +
+                    "; narrow the answer with bbox, alt_min/alt_max, callsign or icao24");
+  std::sort(hits.begin(), hits.end(),
+            [](const Position& a, const Position& b) { return a.flight_id < b.flight_id; });
+  Positions out;
+  out.t = t;
+  out.positions = std::move(hits);
+  for (Position& p : out.positions) {
+    const Flight& f = flights.at(p.flight_id);
+    p.icao24 = f.icao24, p.callsign = f.callsign;
+  }
+  return out;
+}
+
+Positions positions_at(const TrailSet& set, double t, const Query& q, std::size_t max_positions) {
+  validate_positions_query(t, q);
   const auto& pts = set.points();
   const auto& flights = set.flights();
-  const bool has_alt = q.alt_min || q.alt_max;
-  const double alt_lo = q.alt_min.value_or(-std::numeric_limits<double>::infinity());
-  const double alt_hi = q.alt_max.value_or(std::numeric_limits<double>::infinity());
-
+  const auto sample = [&](std::size_t i) {
+    return PositionSample{pts.t[i],     pts.lat[i],   pts.lon[i],   pts.alt[i],
+                          pts.speed[i], pts.track[i], pts.vrate[i], pts.on_ground[i]};
+  };
   // One flight at t, or false when it is absent or filtered out.
-  const auto at = [&](std::uint32_t fi, Hit& h) {
+  const auto at = [&](std::uint32_t fi, Position& h) {
     const Flight& f = flights[fi];
     if (!(f.t_min <= t && t <= f.t_max) || f.begin == f.end) return false;
     // Without t0/t1, may_match checks the flight's position and altitude extents and its ids. The
@@ -100,68 +148,29 @@ Positions positions_at(const TrailSet& set, double t, const Query& q, std::size_
     const double* const first = pts.t.data() + f.begin;
     const double* const last = pts.t.data() + f.end;
     const std::size_t i = f.begin + static_cast<std::size_t>(std::lower_bound(first, last, t) - first);
-    h.flight = fi;
     if (pts.t[i] == t) {
-      h.exact = true;
-      h.lat = pts.lat[i], h.lon = pts.lon[i];
-      h.alt = value(pts.alt[i]), h.speed = value(pts.speed[i]);
-      h.track = value(pts.track[i]), h.vrate = value(pts.vrate[i]);
-      h.on_ground = pts.on_ground[i] != 0;
-    } else {
-      // f.t_min <= t < pts.t[i], so i > f.begin and pts.t[i - 1] < t < pts.t[i].
-      const std::size_t a = i - 1, b = i;
-      const double w = (t - pts.t[a]) / (pts.t[b] - pts.t[a]);
-      h.exact = false;
-      h.lat = lerp(pts.lat[a], pts.lat[b], w);
-      h.lon = lerp_lon(pts.lon[a], pts.lon[b], w);
-      h.alt = lerp(pts.alt[a], pts.alt[b], w);
-      h.speed = lerp(pts.speed[a], pts.speed[b], w);
-      h.track = lerp_track(pts.track[a], pts.track[b], w);
-      h.vrate = lerp(pts.vrate[a], pts.vrate[b], w);
-      h.on_ground = pts.on_ground[a] != 0;
+      const PositionSample e = sample(i);
+      return position_from_samples(fi, &e, e, e, t, q, h);
     }
-    if (q.bbox && !q.bbox->contains(h.lat, h.lon)) return false;
-    if (has_alt && !(h.alt >= alt_lo && h.alt <= alt_hi)) return false;  // NaN fails too
-    if (q.on_ground && h.on_ground != *q.on_ground) return false;
-    return true;
+    // f.t_min <= t < pts.t[i], so i > f.begin and pts.t[i - 1] < t < pts.t[i].
+    return position_from_samples(fi, nullptr, sample(i - 1), sample(i), t, q, h);
   };
-
   // Chunks of flights in parallel; the reduction joins left to right (TBB's parallel_reduce does not
   // need a commutative join), so hits stay in flight order.
-  std::vector<Hit> hits = tbb::parallel_reduce(
+  std::vector<Position> hits = tbb::parallel_reduce(
       tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(flights.size()), 256),
-      std::vector<Hit>(),
-      [&](const tbb::blocked_range<std::uint32_t>& r, std::vector<Hit> acc) {
-        Hit h;
+      std::vector<Position>(),
+      [&](const tbb::blocked_range<std::uint32_t>& r, std::vector<Position> acc) {
+        Position h;
         for (std::uint32_t fi = r.begin(); fi != r.end(); ++fi)
           if (at(fi, h)) acc.push_back(h);
         return acc;
       },
-      [](std::vector<Hit> a, const std::vector<Hit>& b) {
+      [](std::vector<Position> a, const std::vector<Position>& b) {
         a.insert(a.end(), b.begin(), b.end());
         return a;
       });
-  if (hits.size() > max_positions)
-    throw Error(Error::Kind::payload_too_large, "max_positions",
-                std::to_string(hits.size()) +
-                    " flights match at t, more than max_positions=" + std::to_string(max_positions) +
-                    "; narrow the answer with bbox, alt_min/alt_max, callsign or icao24");
-  std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.flight < b.flight; });
-
-  Positions out;
-  out.t = t;
-  out.positions.reserve(hits.size());
-  for (const Hit& h : hits) {
-    const Flight& f = flights[h.flight];
-    Position p;
-    p.flight_id = h.flight;
-    p.icao24 = f.icao24, p.callsign = f.callsign;
-    p.lat = h.lat, p.lon = h.lon, p.alt_m = h.alt;
-    p.speed_ms = h.speed, p.track_deg = h.track, p.vrate_ms = h.vrate;
-    p.on_ground = h.on_ground, p.exact = h.exact;
-    out.positions.push_back(std::move(p));
-  }
-  return out;
+  return finish_positions(t, std::move(hits), flights, max_positions);
 }
 
 nlohmann::json Positions::to_json() const {

@@ -14,15 +14,15 @@
 #include "trailscope/core/limits.hpp"
 #include "trailscope/core/text.hpp"
 #include "trailscope/trails/export.hpp"
+#include "trailscope/trails/partial_reads.hpp"
 #include "trailscope/trails/point_filter.hpp"
 
 namespace trailscope {
 
 namespace {
 constexpr double kFeet = 0.3048;
-constexpr double kSpeedBin = 0.25;      // m/s; percentiles are read from this histogram
-constexpr int kSpeedBins = 2400;        // up to 600 m/s; faster samples land in the last bin
-constexpr double kAltEdgeNudge = 1e-4;  // of an altitude bin
+constexpr double kSpeedBin = SummaryLayout::kSpeedBin;
+constexpr int kSpeedBins = SummaryLayout::kSpeedBins;
 
 // Smallest "nice" bin width (seconds) giving at most `bins` bins over `span`.
 double nice_bin_seconds(double span, int bins) {
@@ -70,17 +70,15 @@ const char* unit_name(AltUnit u) {
 }
 }  // namespace
 
-Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
+SummaryLayout summary_layout(const Query& q, const SummaryOptions& opts, double data_t_min, double data_t_max,
+                             double top_alt_m) {
   if (opts.bins < 1 || opts.bins > limits::kMaxHistogramBins)
     throw invalid_argument("bins", "bins must lie in 1..1000");
   if (opts.top_callsigns < 0 || opts.top_callsigns > limits::kMaxTopCallsigns)
     throw invalid_argument("top", "top must lie in 0..100");
-  const auto& pts = set.points();
-  const auto& flights = set.flights();
-  Summary s;
-
+  SummaryLayout l;
   // Time axis: the window when given, else the data extent.
-  double lo = q.t0.value_or(set.t_min()), hi = q.t1.value_or(std::nextafter(set.t_max(), INFINITY));
+  double lo = q.t0.value_or(data_t_min), hi = q.t1.value_or(std::nextafter(data_t_max, INFINITY));
   // A one-sided window that ends before the data starts (or starts after it ends) is empty; its
   // histogram is one bin at the edge the client gave.
   if (!(hi > lo)) {
@@ -89,20 +87,71 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
     else
       lo = hi - 1;
   }
-  const double bin = nice_bin_seconds(std::max(hi - lo, 1.0), opts.bins);
-  const double t_origin = std::floor(lo / bin) * bin;
+  l.bin_seconds = nice_bin_seconds(std::max(hi - lo, 1.0), opts.bins);
+  l.t_origin = std::floor(lo / l.bin_seconds) * l.bin_seconds;
   // hi > lo >= t_origin, and nice_bin_seconds() keeps the count within opts.bins (+1 for alignment).
-  const std::size_t time_bins = static_cast<std::size_t>(std::max(1.0, std::ceil((hi - t_origin) / bin)));
+  l.time_bins = static_cast<std::size_t>(std::max(1.0, std::ceil((hi - l.t_origin) / l.bin_seconds)));
   const double alt_unit = opts.alt_unit == AltUnit::ft ? kFeet : 1.0;
-  const double alt_bin_w = opts.alt_unit == AltUnit::ft ? 1000.0 : 300.0;
+  l.alt_bin_width = opts.alt_unit == AltUnit::ft ? 1000.0 : 300.0;
   // Altitude bins from 0 to the top of the data (at least one bin); negative altitudes go to bin 0.
+  l.alt_bins = static_cast<std::size_t>(std::max(0.0, top_alt_m) / alt_unit / l.alt_bin_width) + 1;
+  l.alt_scale = 1.0 / (alt_unit * l.alt_bin_width);
+  return l;
+}
+
+SummaryCounts::SummaryCounts(const SummaryLayout& l, std::size_t flights)
+    : time(l.time_bins), alt(l.alt_bins), speed(SummaryLayout::kSpeedBins), matched(flights, 0) {}
+
+Summary finish_summary(const SummaryLayout& l, const SummaryOptions& opts, SummaryCounts total,
+                       const std::vector<Flight>& flights, QualityReport quality) {
+  Summary s;
+  s.points = total.points;
+  if (total.points) s.t_min = total.t_min, s.t_max = total.t_max;
+  s.time_histogram = {l.t_origin, l.bin_seconds, std::move(total.time)};
+  s.altitude_histogram = {opts.alt_unit, l.alt_bin_width, 0.0, std::move(total.alt)};
+  s.speed.count = total.speed_n;
+  if (total.speed_n) {
+    s.speed.min = total.speed_min, s.speed.max = total.speed_max;
+    s.speed.mean = total.speed_sum / static_cast<double>(total.speed_n);
+    s.speed.p50 = std::clamp(percentile(total.speed, total.speed_n, 0.50), s.speed.min, s.speed.max);
+    s.speed.p95 = std::clamp(percentile(total.speed, total.speed_n, 0.95), s.speed.min, s.speed.max);
+  }
+
+  std::unordered_map<std::string_view, Summary::CallsignCount> by_callsign;
+  for (std::size_t fi = 0; fi < flights.size() && fi < total.matched.size(); ++fi) {
+    if (!total.matched[fi]) continue;
+    ++s.flights;
+    auto& c = by_callsign[flights[fi].callsign];
+    ++c.flights, c.points += total.matched[fi];
+  }
+  std::vector<Summary::CallsignCount> all;
+  all.reserve(by_callsign.size());
+  for (auto& [name, c] : by_callsign) {
+    if (name.empty()) continue;
+    c.callsign = std::string(name);
+    all.push_back(std::move(c));
+  }
+  const std::size_t k = std::min<std::size_t>(opts.top_callsigns, all.size());
+  std::partial_sort(all.begin(), all.begin() + k, all.end(), [](const auto& a, const auto& b) {
+    return a.points != b.points ? a.points > b.points : a.callsign < b.callsign;
+  });
+  all.resize(k);
+  s.top_callsigns = std::move(all);
+  s.quality = std::move(quality);
+  return s;
+}
+
+Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
+  const auto& pts = set.points();
+  const auto& flights = set.flights();
   double top_alt = 0;
   for (const Flight& f : flights)
     if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
-  const std::size_t alt_bins = static_cast<std::size_t>(top_alt / alt_unit / alt_bin_w) + 1;
-
+  const SummaryLayout l = summary_layout(q, opts, set.t_min(), set.t_max(), top_alt);
+  const double t_origin = l.t_origin, bin = l.bin_seconds;
+  const std::size_t time_bins = l.time_bins, alt_bins = l.alt_bins;
+  const double alt_scale = l.alt_scale;
   const PointFilter filter(q);
-  const double alt_scale = 1.0 / (alt_unit * alt_bin_w);
   const double inv_bin = 1.0 / bin;
   std::vector<std::uint32_t> matched(flights.size(), 0);
 
@@ -133,15 +182,17 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
       if (a == a) {
         // Altitudes are float metres; one converted from a round flight level (FL100 = 3048 m) must
         // land in the bin that starts at it, not a hair below, hence the nudge.
-        const double ab = a * alt_scale + kAltEdgeNudge;
+        const double ab = a * alt_scale + SummaryLayout::kAltEdgeNudge;
         ++acc.alt[ab <= 0 ? 0 : std::min(static_cast<std::size_t>(ab), alt_bins - 1)];
       }
       const float v = pts.speed[i];
       if (v == v) {
         ++vn, vsum += v;
         vmin = std::min(vmin, v), vmax = std::max(vmax, v);
-        const float sb = v * static_cast<float>(1.0 / kSpeedBin);
-        ++acc.speed[sb <= 0 ? 0 : std::min<std::size_t>(static_cast<std::size_t>(sb), kSpeedBins - 1)];
+        const float sb = v * static_cast<float>(1.0 / SummaryLayout::kSpeedBin);
+        ++acc.speed[sb <= 0
+                        ? 0
+                        : std::min<std::size_t>(static_cast<std::size_t>(sb), SummaryLayout::kSpeedBins - 1)];
       }
     }
     if (n) {
@@ -171,41 +222,13 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
         a.merge(b);
         return a;
       });
-
-  s.points = total.points;
-  if (total.points) s.t_min = total.t_min, s.t_max = total.t_max;
-  s.time_histogram = {t_origin, bin, std::move(total.time)};
-  s.altitude_histogram = {opts.alt_unit, alt_bin_w, 0.0, std::move(total.alt)};
-  s.speed.count = total.speed_n;
-  if (total.speed_n) {
-    s.speed.min = total.speed_min, s.speed.max = total.speed_max;
-    s.speed.mean = total.speed_sum / static_cast<double>(total.speed_n);
-    s.speed.p50 = std::clamp(percentile(total.speed, total.speed_n, 0.50), s.speed.min, s.speed.max);
-    s.speed.p95 = std::clamp(percentile(total.speed, total.speed_n, 0.95), s.speed.min, s.speed.max);
-  }
-
-  std::unordered_map<std::string_view, Summary::CallsignCount> by_callsign;
-  for (std::size_t fi = 0; fi < flights.size(); ++fi) {
-    if (!matched[fi]) continue;
-    ++s.flights;
-    auto& c = by_callsign[flights[fi].callsign];
-    ++c.flights, c.points += matched[fi];
-  }
-  std::vector<Summary::CallsignCount> all;
-  all.reserve(by_callsign.size());
-  for (auto& [name, c] : by_callsign) {
-    if (name.empty()) continue;
-    c.callsign = std::string(name);
-    all.push_back(std::move(c));
-  }
-  const std::size_t k = std::min<std::size_t>(opts.top_callsigns, all.size());
-  std::partial_sort(all.begin(), all.begin() + k, all.end(), [](const auto& a, const auto& b) {
-    return a.points != b.points ? a.points > b.points : a.callsign < b.callsign;
-  });
-  all.resize(k);
-  s.top_callsigns = std::move(all);
-  s.quality = check_quality(set, q);
-  return s;
+  SummaryCounts c;
+  c.points = total.points, c.t_min = total.t_min, c.t_max = total.t_max;
+  c.time = std::move(total.time), c.alt = std::move(total.alt), c.speed = std::move(total.speed);
+  c.speed_n = total.speed_n, c.speed_sum = total.speed_sum;
+  c.speed_min = total.speed_min, c.speed_max = total.speed_max;
+  c.matched = std::move(matched);
+  return finish_summary(l, opts, std::move(c), flights, check_quality(set, q));
 }
 
 nlohmann::json Summary::to_json() const {
@@ -412,6 +435,13 @@ FlightPage list_flights(const TrailSet& set, const Query& q, std::size_t page, s
   std::vector<FlightRow> hits;
   for (auto& r : rows)
     if (r.points) hits.push_back(std::move(r));
+  return page_flights(std::move(hits), flights, page, page_size, sort);
+}
+
+FlightPage page_flights(std::vector<FlightRow> hits, const std::vector<Flight>& flights, std::size_t page,
+                        std::size_t page_size, const FlightSort& sort) {
+  if (page_size < 1 || page_size > limits::kMaxPageSize)
+    throw invalid_argument("page_size", "page_size must lie in 1..1000");
   const bool alt = sort.key == FlightSortKey::alt_max_m;
   std::sort(hits.begin(), hits.end(), [&](const FlightRow& a, const FlightRow& b) {
     if (alt && std::isnan(a.alt_max_m) != std::isnan(b.alt_max_m)) return std::isnan(b.alt_max_m);

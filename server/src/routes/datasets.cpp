@@ -9,6 +9,7 @@
 #include "trailscope/core/error.hpp"
 #include "limits.hpp"
 #include "trailscope/ingest/format.hpp"
+#include "store/dataset_reads.hpp"
 #include "trailscope/trails/summary.hpp"
 
 namespace trailscope::server::handlers {
@@ -93,7 +94,7 @@ Response summary(App& app, const Request& req, const PathParams& p) {
     throw invalid_argument("table", "table applies to format=csv only (the JSON holds every table)");
   if (format == "csv") {
     (void)Summary{}.to_csv(table);  // an unknown table is refused before the work
-    const Summary s = summarize(*ds->trails, q, opts);
+    const Summary s = reads_of(*app.store).summarize(*ds, q, opts);
     Response res;
     res.content_type = "text/csv; charset=utf-8";
     res.body = s.to_csv(table);
@@ -102,7 +103,7 @@ Response summary(App& app, const Request& req, const PathParams& p) {
     return res;
   }
   const auto start = std::chrono::steady_clock::now();
-  nlohmann::json j = summarize(*ds->trails, q, opts).to_json();
+  nlohmann::json j = reads_of(*app.store).summarize(*ds, q, opts).to_json();
   j["dataset"] = ds->id;
   j["query"] = q.canonical();
   j["elapsed_ms"] =
@@ -118,7 +119,7 @@ Response list_flights(App& app, const Request& req, const PathParams& p) {
   const auto size = params::integer(req, "page_size", limits::kDefaultPageSize, 1, limits::kMaxPageSize);
   const FlightSort sort =
       parse_flight_sort(params::text(req, "sort", "t_start"), params::text(req, "order", "asc"));
-  return Response::json(200, trailscope::list_flights(*ds->trails, q, page, size, sort).to_json());
+  return Response::json(200, reads_of(*app.store).list_flights(*ds, q, page, size, sort).to_json());
 }
 
 Response get_flight(App& app, const Request& req, const PathParams& p) {

@@ -2,6 +2,7 @@
 #include "limits.hpp"
 #include "params/query_params.hpp"
 #include "routes/handlers.hpp"
+#include "store/dataset_reads.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/trails/positions.hpp"
 
@@ -22,7 +23,7 @@ Response positions(App& app, const Request& req, const PathParams& p) {
     throw invalid_argument("format", "format must be 'json' or 'geojson', got '" + format + "'");
   const auto max_positions = params::integer(req, "max_positions", limits::kMaxPositionsPerResponse, 1,
                                              limits::kMaxPositionsPerResponse);
-  const Positions at = positions_at(*ds->trails, t, q, static_cast<std::size_t>(max_positions));
+  const Positions at = reads_of(*app.store).positions_at(*ds, t, q, static_cast<std::size_t>(max_positions));
   nlohmann::json j = format == "geojson" ? at.to_geojson() : at.to_json();
   j["dataset"] = ds->id;
   Response res = Response::json(200, j);

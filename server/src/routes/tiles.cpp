@@ -2,6 +2,7 @@
 
 #include "routes/handlers.hpp"
 #include "routes/png_cache.hpp"
+#include "store/dataset_reads.hpp"
 #include "params/query_params.hpp"
 #include "params/tile_params.hpp"
 #include "trailscope/core/backend.hpp"
@@ -45,7 +46,7 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
                           "&min_level=" + format_double(density::effective_min_level(t));
   density::validate(t);  // before the ETag check: a malformed request never gets a 304
   return cached_png(app.tiles, key, req,
-                    [&] { return std::move(app.density.render_tile(*ds->trails, dataset_key, q, t).png); });
+                    [&] { return reads_of(*app.store).density_tile(*ds, app.density, dataset_key, q, t); });
 }
 
 Response density_legend(App& app, const Request& req, const PathParams& p) {

@@ -6,8 +6,13 @@
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "store/failpoint.hpp"
+#include "trailscope/core/limits.hpp"
+#include "trailscope/density/tile_parts.hpp"
+#include "trailscope/trails/partial_reads.hpp"
+#include "trailscope/trails/quality.hpp"
 
 namespace trailscope::server {
 
@@ -52,6 +57,27 @@ struct RowReader {
     pos += sizeof(T);
     return v;
   }
+  /// An Array(T): its LEB128 length, then the values.
+  template <class T>
+  std::vector<T> array() {
+    const std::uint64_t n = length();
+    if (n > (data.size() - pos) / sizeof(T))
+      throw Error(Error::Kind::internal, "store", "ClickHouse: a truncated answer");
+    std::vector<T> v(n);
+    for (auto& x : v) x = num<T>();
+    return v;
+  }
+  std::uint64_t length() {
+    std::uint64_t n = 0;
+    for (int shift = 0;; shift += 7) {
+      need(1);
+      const auto byte = static_cast<std::uint8_t>(data[pos++]);
+      n |= std::uint64_t(byte & 0x7f) << shift;
+      if (!(byte & 0x80)) break;
+      if (shift > 56) throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed string length");
+    }
+    return n;
+  }
   std::string str() {
     std::uint64_t n = 0;
     for (int shift = 0;; shift += 7) {
@@ -73,6 +99,16 @@ std::int32_t hour_of(double t) {
   if (!std::isfinite(t)) return 0;
   const double h = std::floor(t / 3600.0);
   return h < -2147483648.0 ? INT32_MIN : h > 2147483647.0 ? INT32_MAX : static_cast<std::int32_t>(h);
+}
+
+/// A double as an SQL literal that reads back as the same double (17 significant digits; ClickHouse parses
+/// number literals with strtod, correctly rounded), in parentheses when negative.
+std::string sql_double(double v) {
+  if (!std::isfinite(v))
+    throw Error(Error::Kind::internal, "store", "ClickHouse: a bound that is not finite");
+  char b[40];
+  std::snprintf(b, sizeof b, v < 0 ? "(%.17g)" : "%.17g", v);
+  return b;
 }
 
 std::uint64_t now_version() {
@@ -404,6 +440,316 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
   std::lock_guard lock(mu_);
   catalogue_[ds->id] = Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest};
   loaded_[ds->id] = ds;
+}
+
+// ---- push-down ------------------------------------------------------------------------------------------
+
+bool ClickHouseStore::pushable(const Dataset& ds) {
+  std::size_t covered = 0;
+  std::uint32_t next = 0;
+  for (const Flight& f : ds.trails->flights()) {
+    if (f.begin != next) return false;
+    covered += f.size(), next = f.end;
+  }
+  return covered == ds.trails->num_points();
+}
+
+std::string ClickHouseStore::read(const std::string& sql) const {
+  // A flight-id list of every flight of a large dataset stays within the parser's limit (default 256 KiB).
+  // A dead replica is skipped after 200 ms instead of ClickHouse's 50 ms default, which a loaded machine
+  // can miss for a live one.
+  static const ClickHouseClient::Settings settings = {{"max_query_size", std::to_string(64u << 20)},
+                                                      {"connect_timeout_with_failover_ms", "200"}};
+  for (int attempt = 1;; ++attempt) {
+    try {
+      const auto t0 = std::chrono::steady_clock::now();
+      std::string out = client_.query(sql, settings);
+      ++reads_;
+      if (observer_)
+        observer_(sql,
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      return out;
+    } catch (const ClickHouseError& e) {
+      const int c = e.code();
+      const bool network = c == 32 || c == 209 || c == 210 || c == 279;
+      if (!network || attempt == kReadAttempts) throw;
+      std::cerr << "store: a read failed on a replica that went away, again (" << attempt << "): " << e.what()
+                << "\n";
+      std::this_thread::sleep_for(std::chrono::milliseconds(200 * attempt));
+    }
+  }
+}
+
+std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) const {
+  // PointFilter (trails/point_filter.hpp) as SQL: Float32 columns compare as doubles, as there; NaN fails
+  // every comparison, as there.
+  std::string w = "dataset = " + ClickHouseClient::quote(ds.id);
+  if (q.t0) w += " AND hour >= " + std::to_string(hour_of(*q.t0)) + " AND t >= " + sql_double(*q.t0);
+  if (q.t1) w += " AND hour <= " + std::to_string(hour_of(*q.t1)) + " AND t < " + sql_double(*q.t1);
+  if (q.alt_min) w += " AND alt >= " + sql_double(*q.alt_min);
+  if (q.alt_max) w += " AND alt <= " + sql_double(*q.alt_max);
+  if ((q.alt_min || q.alt_max) && !(q.alt_min && q.alt_max)) w += " AND NOT isNaN(alt)";
+  if (q.bbox) {
+    const BBox& b = *q.bbox;
+    w += " AND lat >= " + sql_double(b.south) + " AND lat <= " + sql_double(b.north);
+    w += b.west > b.east ? " AND (lon >= " + sql_double(b.west) + " OR lon <= " + sql_double(b.east) + ")"
+                         : " AND lon >= " + sql_double(b.west) + " AND lon <= " + sql_double(b.east);
+  }
+  if (q.on_ground) w += std::string(" AND on_ground = ") + (*q.on_ground ? "1" : "0");
+  if (!q.icao24.empty() || !q.callsign.empty()) {
+    std::string ids;
+    const auto& flights = ds.trails->flights();
+    for (std::size_t f = 0; f < flights.size(); ++f)
+      if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    if (ids.empty()) return "";
+    w += " AND flight IN (" + ids + ")";
+  }
+  return w;
+}
+
+Summary ClickHouseStore::summarize(const Dataset& ds, const Query& q, const SummaryOptions& opts) const {
+  if (!pushable(ds)) return LocalReads{}.summarize(ds, q, opts);
+  const TrailSet& set = *ds.trails;
+  double top_alt = 0;
+  for (const Flight& f : set.flights())
+    if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
+  const SummaryLayout l = summary_layout(q, opts, set.t_min(), set.t_max(), top_alt);
+  SummaryCounts c(l, set.num_flights());
+  const std::string where = point_where(ds, q);
+  if (!where.empty()) {
+    // The bins exactly as summarize() computes them (SummaryCounts): the same double operations, on
+    // constants that read back bit for bit.
+    const std::string O = sql_double(l.t_origin), B = sql_double(l.bin_seconds),
+                      IB = sql_double(1.0 / l.bin_seconds), NT = std::to_string(l.time_bins),
+                      NA = std::to_string(l.alt_bins), NS = std::to_string(SummaryLayout::kSpeedBins);
+    // The last bin of each histogram, as UInt64 (least() takes no mix of signed and unsigned types).
+    auto last_bin = [](std::size_t n) { return "toUInt64(" + std::to_string(n - 1) + ")"; };
+    const std::string tb0 =
+        "least(toUInt64(greatest(0., (t - " + O + ") * " + IB + ")), " + last_bin(l.time_bins) + ")";
+    const std::string tb = "if(" + tb0 + " + 1 < " + NT + " AND t >= " + O + " + (" + tb0 + " + 1) * " + B +
+                           ", " + tb0 + " + 1, " + tb0 + ")";
+    const std::string ab = "(toFloat64(alt) * " + sql_double(l.alt_scale) + " + " +
+                           sql_double(SummaryLayout::kAltEdgeNudge) + ")";
+    // Unknown altitudes and speeds go to the key one past the last bin, dropped below.
+    const std::string akey = "if(isNaN(alt), " + NA + ", if(" + ab + " <= 0, 0, least(toUInt64(" + ab +
+                             "), " + last_bin(l.alt_bins) + ")))";
+    const std::string sb = "(toFloat64(speed) * 4)";
+    static_assert(SummaryLayout::kSpeedBin == 0.25);
+    const std::string skey = "if(isNaN(speed), " + NS + ", if(" + sb + " <= 0, 0, least(toUInt64(" + sb +
+                             "), " + last_bin(SummaryLayout::kSpeedBins) + ")))";
+    const std::string one = "[toUInt64(1)]";
+    const std::string sql =
+        "SELECT count(), min(t), max(t), countIf(NOT isNaN(speed)), sumIf(toFloat64(speed), NOT "
+        "isNaN(speed)), "
+        "minIf(speed, NOT isNaN(speed)), maxIf(speed, NOT isNaN(speed)), sumMap([toUInt32(" +
+        tb + ")], " + one + "), sumMap([toUInt32(" + akey + ")], " + one + "), sumMap([toUInt32(" + skey +
+        ")], " + one + "), sumMap([flight], " + one + ") FROM " + db_ + ".points WHERE " + where +
+        " FORMAT RowBinary";
+    const std::string body = read(sql);
+    RowReader r{body};
+    c.points = r.num<std::uint64_t>();
+    c.t_min = r.num<double>(), c.t_max = r.num<double>();
+    c.speed_n = r.num<std::uint64_t>();
+    c.speed_sum = r.num<double>();
+    c.speed_min = r.num<float>(), c.speed_max = r.num<float>();
+    auto histogram = [&](std::vector<std::uint64_t>& h) {
+      const auto keys = r.array<std::uint32_t>();
+      const auto counts = r.array<std::uint64_t>();
+      if (keys.size() != counts.size())
+        throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed map");
+      for (std::size_t i = 0; i < keys.size(); ++i)
+        if (keys[i] < h.size()) h[keys[i]] += counts[i];
+    };
+    histogram(c.time), histogram(c.alt), histogram(c.speed);
+    const auto fl = r.array<std::uint32_t>();
+    const auto fc = r.array<std::uint64_t>();
+    if (fl.size() != fc.size()) throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed map");
+    for (std::size_t i = 0; i < fl.size(); ++i)
+      if (fl[i] < c.matched.size()) c.matched[fl[i]] = static_cast<std::uint32_t>(fc[i]);
+  }
+  // Position jumps follow each flight's samples in order (see the header): on the server's copy.
+  return finish_summary(l, opts, std::move(c), set.flights(), check_quality(set, q));
+}
+
+FlightPage ClickHouseStore::list_flights(const Dataset& ds, const Query& q, std::size_t page,
+                                         std::size_t page_size, const FlightSort& sort) const {
+  if (!pushable(ds)) return LocalReads{}.list_flights(ds, q, page, page_size, sort);
+  if (page_size < 1 || page_size > limits::kMaxPageSize)
+    throw invalid_argument("page_size", "page_size must lie in 1..1000");
+  const auto& flights = ds.trails->flights();
+  std::vector<FlightRow> rows;
+  const std::string where = point_where(ds, q);
+  if (!where.empty()) {
+    const std::string body = read(
+        "SELECT flight, count(), min(t), max(t), maxIf(alt, NOT isNaN(alt)), countIf(NOT isNaN(alt)) FROM " +
+        db_ + ".points WHERE " + where + " GROUP BY flight FORMAT RowBinary");
+    RowReader r{body};
+    while (!r.done()) {
+      FlightRow row;
+      row.id = r.num<std::uint32_t>();
+      row.points = r.num<std::uint64_t>();
+      row.t_start = r.num<double>(), row.t_end = r.num<double>();
+      const float alt = r.num<float>();
+      row.alt_max_m = r.num<std::uint64_t>() ? alt : std::numeric_limits<double>::quiet_NaN();
+      if (row.id >= flights.size())
+        throw Error(Error::Kind::internal, "store", "ClickHouse: a flight out of range");
+      const Flight& f = flights[row.id];
+      row.duration_s = row.t_end - row.t_start;
+      row.flight_t_start = f.t_min, row.flight_t_end = f.t_max;
+      row.flight_duration_s = f.t_max - f.t_min;
+      row.flight_points = f.size();
+      rows.push_back(std::move(row));
+    }
+  }
+  return page_flights(std::move(rows), flights, page, page_size, sort);
+}
+
+Positions ClickHouseStore::positions_at(const Dataset& ds, double t, const Query& q,
+                                        std::size_t max_positions) const {
+  validate_positions_query(t, q);
+  if (!pushable(ds)) return LocalReads{}.positions_at(ds, t, q, max_positions);
+  // The flights present at t that the query may match, by their extents (as positions_at() skips them);
+  // their samples around t lie within the hours of their extents.
+  const auto& flights = ds.trails->flights();
+  std::string ids;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    const Flight& fl = flights[f];
+    if (!(fl.t_min <= t && t <= fl.t_max) || fl.begin == fl.end || !q.may_match(fl)) continue;
+    ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    lo = std::min(lo, fl.t_min), hi = std::max(hi, fl.t_max);
+  }
+  std::vector<Position> hits;
+  if (!ids.empty()) {
+    // Per flight: the first sample at exactly t, the last one before t and the first one after (by index,
+    // the flight's time order: lower_bound's choice among equal times).
+    const std::string T = sql_double(t);
+    const std::string row = "tuple(t, lat, lon, alt, speed, track, vrate, on_ground)";
+    const std::string body =
+        read("SELECT flight, countIf(t = " + T + "), argMinIf(" + row + ", idx, t = " + T + "), argMaxIf(" +
+             row + ", idx, t < " + T + "), argMinIf(" + row + ", idx, t > " + T + ") FROM " + db_ +
+             ".points WHERE dataset = " + ClickHouseClient::quote(ds.id) +
+             " AND hour >= " + std::to_string(hour_of(lo)) + " AND hour <= " + std::to_string(hour_of(hi)) +
+             " AND flight IN (" + ids + ") GROUP BY flight FORMAT RowBinary");
+    RowReader r{body};
+    auto sample = [&] {
+      PositionSample p;
+      p.t = r.num<double>();
+      p.lat = r.num<float>(), p.lon = r.num<float>(), p.alt = r.num<float>();
+      p.speed = r.num<float>(), p.track = r.num<float>(), p.vrate = r.num<float>();
+      p.on_ground = r.num<std::uint8_t>();
+      return p;
+    };
+    while (!r.done()) {
+      const auto flight = r.num<std::uint32_t>();
+      const auto exact = r.num<std::uint64_t>();
+      const PositionSample e = sample(), a = sample(), b = sample();
+      if (flight >= flights.size())
+        throw Error(Error::Kind::internal, "store", "ClickHouse: a flight out of range");
+      Position p;
+      if (position_from_samples(flight, exact ? &e : nullptr, a, b, t, q, p)) hits.push_back(std::move(p));
+    }
+  }
+  return finish_positions(t, std::move(hits), flights, max_positions);
+}
+
+std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                                          const std::string& dataset_key, const Query& q,
+                                          const density::TileRequest& request) const {
+  namespace den = trailscope::density;
+  const bool whole = !q.t0 && !q.t1 && !q.alt_min && !q.alt_max && !q.bbox && !q.on_ground &&
+                     q.icao24.empty() && q.callsign.empty();
+  bool wraps = false;
+  for (const Flight& f : ds.trails->flights()) wraps = wraps || f.crosses_antimeridian;
+  if (!whole || wraps || request.value != den::DensityValue::count || request.kernel_radius != 0 ||
+      std::isfinite(request.max_gap_seconds) || !pushable(ds))
+    return LocalReads{}.density_tile(ds, renderer, dataset_key, q, request);
+  den::validate(request);
+  const std::shared_ptr<const den::SpanStats> span = renderer.span_for(*ds.trails, dataset_key, q, request);
+  const den::Canvas canvas = den::Canvas::for_tile(request.tile, request.size);
+  den::Aggregate agg = den::Aggregate::zeros(canvas.width(), canvas.height(), false);
+
+  // The pixels (c, r) of the global grid of pixel size P each segment touches, as density_lines() walks
+  // them (closed segment, half-open pixel squares): oriented left to right (lx <= hx), one row per pixel
+  // column c it crosses inside the tile, in that column x in [max(lx, cP), min(hx, (c+1)P)] (right end
+  // open at the column's edge), and, y being linear in x, the pixel rows between those of its two ends,
+  // y = ly ± (x − lx)·|dy| / dx done exactly in UInt64 with intDiv and the remainder; then one row per
+  // pixel row. A segment that continues its flight's run (its first point is not the flight's first)
+  // leaves out the pixel of its first endpoint. (Bresenham-free column sweep; the same SQL as
+  // tests/bench/bench_util.hpp peer_line_tile_sql.)
+  const std::int64_t P = canvas.pixel_units(), x0 = canvas.origin_x(), y0 = canvas.origin_y();
+  const std::int64_t C0 = x0 / P, R0 = y0 / P, W = canvas.width(), H = canvas.height();
+  const std::string sP = std::to_string(P), sC0 = std::to_string(C0), sR0 = std::to_string(R0),
+                    sCmax = std::to_string(C0 + W - 1), sRmax = std::to_string(R0 + H - 1);
+  std::string begins;
+  for (const Flight& f : ds.trails->flights())
+    begins += (begins.empty() ? "" : ",") + std::to_string(f.begin);
+  const std::string segs =
+      "SELECT NOT (idx IN (" + begins +
+      ")) AS cont, toInt64(x0) AS xa, toInt64(y0) AS ya, toInt64(x1) AS xb, "
+      "toInt64(y1) AS yb, intDiv(xa, " +
+      sP + ") AS pa_c, intDiv(ya, " + sP +
+      ") AS pa_r, "
+      "xa <= xb AS fwd, if(fwd, xa, xb) AS lx, if(fwd, ya, yb) AS ly, if(fwd, xb, xa) AS hx, if(fwd, yb, ya) "
+      "AS hy, "
+      "hx - lx AS dx, hy - ly AS dy, toUInt64(abs(dy)) AS ady, toUInt64(greatest(dx, 1)) AS ddx, "
+      "greatest(intDiv(lx, " +
+      sP + "), " + sC0 + ") AS c_lo, least(intDiv(hx, " + sP + "), " + sCmax +
+      ") AS c_hi "
+      "FROM " +
+      db_ + ".segments WHERE dataset = " + ClickHouseClient::quote(ds.id) +
+      " AND greatest(x0, x1) >= " + std::to_string(x0) + " AND least(x0, x1) < " +
+      std::to_string(canvas.end_x()) + " AND greatest(y0, y1) >= " + std::to_string(y0) +
+      " AND least(y0, y1) < " + std::to_string(canvas.end_y());
+  const std::string cols =
+      "SELECT cont, pa_c, pa_r, lx, ly, hx, dx, dy, ady, ddx, "
+      "c_lo + toInt64(arrayJoin(range(toUInt64(greatest(c_hi - c_lo + 1, 0))))) AS c FROM (" +
+      segs + ")";
+  const std::string rows =
+      "SELECT cont, pa_c, pa_r, c, greatest(lx, c * " + sP + ") AS xl, least(hx, (c + 1) * " + sP +
+      ") AS xr, "
+      "hx >= (c + 1) * " +
+      sP +
+      " AS open_r, "
+      "toUInt64(xl - lx) * ady AS ul, toUInt64(xr - lx) * ady AS ur, "
+      "toInt64(intDiv(ul, ddx)) AS ql, ul % ddx AS ml, toInt64(intDiv(ur, ddx)) AS qr, ur % ddx AS mr, "
+      "toInt64(multiIf(dx = 0, intDiv(least(ly, ly + dy), " +
+      sP + "), dy >= 0, intDiv(ly + ql, " + sP +
+      "), "
+      "intDiv(ly - ql - (ml > 0), " +
+      sP +
+      "))) AS j_l, "
+      "toInt64(multiIf(dx = 0, intDiv(greatest(ly, ly + dy), " +
+      sP + "), dy > 0, intDiv(ly + qr, " + sP + ") - (open_r AND mr = 0 AND (ly + qr) % " + sP +
+      " = 0), dy = 0, intDiv(ly, " + sP +
+      "), "
+      "intDiv(ly - qr - (mr > 0), " +
+      sP +
+      "))) AS j_r, "
+      "greatest(least(j_l, j_r), " +
+      sR0 + ") AS r_lo, least(greatest(j_l, j_r), " + sRmax + ") AS r_hi FROM (" + cols + ")";
+  const std::string pix =
+      "SELECT cont, pa_c, pa_r, c, r_lo + toInt64(arrayJoin(range(toUInt64(greatest(r_hi - r_lo + 1, 0))))) "
+      "AS r "
+      "FROM (" +
+      rows + ")";
+  const std::string sql = "SELECT toUInt32((r - " + sR0 + ") * " + std::to_string(W) + " + (c - " + sC0 +
+                          ")) AS pos, toUInt32(count()) FROM (" + pix +
+                          ") WHERE NOT (cont AND c = pa_c AND r = pa_r) GROUP BY pos FORMAT RowBinary";
+  const std::string body = read(sql);
+  RowReader r{body};
+  while (!r.done()) {
+    const auto pos = r.num<std::uint32_t>();
+    const auto n = r.num<std::uint32_t>();
+    if (pos >= agg.count.size())
+      throw Error(Error::Kind::internal, "store", "ClickHouse: a pixel outside the tile");
+    agg.count[pos] = static_cast<std::int32_t>(n);
+  }
+  den::AggregateOptions options;
+  options.value = request.value;
+  options.kernel_radius = request.kernel_radius;
+  options.max_gap_seconds = request.max_gap_seconds;
+  return std::move(den::shade_tile(den::finish_aggregate(agg, canvas, options), *span, request).png);
 }
 
 void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,

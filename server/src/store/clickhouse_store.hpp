@@ -25,17 +25,59 @@
 // database: a second server on the same database would remove the first one's ingest in flight.
 //
 // Reads: get() fetches a dataset's rows back into a TrailSet (kept in memory until the dataset is deleted),
-// identical to what was put, so every route answers from it as from the embedded store.
+// identical to what was put; the routes that have no push-down below answer from it as from the embedded
+// store.
+//
+// Push-down: the scans over points run on the shards, as SQL over the Distributed tables, and the server
+// only merges their partial answers with compute/'s own finishing code, so the bytes equal the embedded
+// store's (tests/cluster/clickhouse_store_test.cpp compares them on the Europe SO6 day and the demo day):
+//  - summarize(): one query gives the counts, first/last time, the speed count/sum/min/max and, with
+//    sumMap, the time, altitude and speed histograms (bins computed in SQL with the same IEEE double
+//    operations as trails/summary.cpp: see SummaryCounts) and the matching points per flight; the server
+//    finishes with finish_summary() (percentiles, mean, top callsigns). Not pushed down: the data-quality
+//    block's position jumps, which follow each flight's samples in order from the time a position was first
+//    reported (a running state per flight; ClickHouse 18.16 has no window functions): check_quality() runs
+//    on the server's copy. The speed mean is the SQL sum divided by the count: it equals the embedded
+//    store's to the bit whenever the double sum is exact whatever the order (speeds of at least 2 m/s
+//    summing below 2^31 m/s, as on real traffic days); otherwise the two differ in the last bits, as two runs
+//    of the embedded store's parallel sum may.
+//  - list_flights(): one GROUP BY flight gives each matching flight's points, first/last matching time and
+//    highest known altitude; the server sorts and pages them with page_flights().
+//  - positions_at(): the flights present at t and passing the flight filters are chosen by their extents
+//    (the zone map positions_at() uses); one GROUP BY flight over the hours of their extents gives each
+//    one's sample at exactly t, or the last sample before t and the first after; the server interpolates
+//    them with position_from_samples() and filters the positions (bbox, altitude band, on_ground apply to
+//    the interpolated position, which SQL cannot know before interpolating).
+//  Summary and flight list push the point filter (time window with the hour prefix of the table order,
+//  altitude band, bbox including one across 180°, on_ground) into WHERE; icao24 and callsign patterns are
+//  matched on the server against the flight table (a list of flight ids in WHERE), since callsign_matches()'
+//  patterns are not LIKE's. A dataset whose flights do not cover its points one to one (never made by the
+//  ingest) falls back to the computation on the server's copy.
+//  - density_tile(): the count tile of the whole dataset (no query filter, value=count, no kernel, every
+//    segment drawn, no flight across 180°): one query over the segment table gives each pixel's count,
+//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them
+//    (the SQL of tests/bench/bench_util.hpp peer_line_tile_sql, checked there pixel for pixel); the first
+//    pixel of a segment that continues its flight's run is left out. The server shades it with the level's
+//    shared span (computed once per zoom on the server's copy and cached by the renderer) through
+//    finish_aggregate() and shade_tile(). Every other tile falls back to the server's copy: a query filter
+//    decides per sample which segments are drawn and where runs break, which needs each segment's
+//    neighbours (no window functions in 18.16); altitude/speed values and kernels are not expressed; a
+//    segment across 180° is drawn with its wrapped copies.
+// Not pushed down: the legend, bundles, flight GeoJSON, exports, animation, congestion and the other routes:
+// they read the copy get() fetched.
+#include <atomic>
+#include <functional>
 #include <map>
 #include <mutex>
 
 #include "store/clickhouse_client.hpp"
+#include "store/dataset_reads.hpp"
 #include "store/dataset_store.hpp"
 #include "store/embedded_store.hpp"
 
 namespace trailscope::server {
 
-class ClickHouseStore final : public DatasetStore {
+class ClickHouseStore final : public DatasetStore, public DatasetReads {
  public:
   /// Connects to the cluster of `url`, creates the database and tables when absent (ON CLUSTER), reads the
   /// catalogue and, with `remove_leftovers` (`serve`, the one owner of the database; not the CLI verbs,
@@ -53,6 +95,15 @@ class ClickHouseStore final : public DatasetStore {
   /// stays invisible. Also throws what the client throws.
   void put(std::shared_ptr<const Dataset> ds, const ProgressFn& progress = {}) override;
   void remove(const std::string& id) override;
+  // DatasetReads, run on the shards (see the header's "Push-down").
+  Summary summarize(const Dataset& ds, const Query& q, const SummaryOptions& opts) const override;
+  FlightPage list_flights(const Dataset& ds, const Query& q, std::size_t page, std::size_t page_size,
+                          const FlightSort& sort) const override;
+  Positions positions_at(const Dataset& ds, double t, const Query& q,
+                         std::size_t max_positions) const override;
+  std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                           const std::string& dataset_key, const Query& q,
+                           const density::TileRequest& request) const override;
 
   static constexpr std::size_t kBatchRows = 1u << 20;
   /// How long an insert waits for every replica of its shard (insert_quorum_timeout) before it fails.
@@ -61,6 +112,13 @@ class ClickHouseStore final : public DatasetStore {
   static std::uint64_t morton(std::uint32_t x, std::uint32_t y);
 
   ClickHouseClient& client() { return client_; }
+  /// Pushed-down queries answered so far (read() calls that returned).
+  std::uint64_t pushed_down_reads() const { return reads_; }
+  /// Told the SQL and wall time (ms) of every pushed-down query that returned (the benchmark's view of
+  /// what ClickHouse did for an answer). Set before the store is shared between threads.
+  void on_read(std::function<void(const std::string& sql, double ms)> observer) {
+    observer_ = std::move(observer);
+  }
   const std::string& database() const { return db_; }
   const std::string& cluster() const { return cluster_; }
 
@@ -70,6 +128,18 @@ class ClickHouseStore final : public DatasetStore {
     nlohmann::json ingest;
   };
   std::shared_ptr<const Dataset> load(const std::string& id, const Meta& meta) const;
+  /// The SQL condition on the points table of `ds` for the point filter and flight filters of `q`; ""
+  /// when no point can match (a flight filter no flight passes).
+  std::string point_where(const Dataset& ds, const Query& q) const;
+  /// Whether the queries can run on the shards for `ds` (its flights cover its points one to one).
+  static bool pushable(const Dataset& ds);
+  /// Runs a push-down SELECT. The client already moves to the next node of the URL when the one it asks
+  /// cannot be reached or drops the connection; here a query that the node it reached could not finish
+  /// because a replica it read from went away mid-query (ClickHouse's network errors: codes 32, 209, 210,
+  /// 279) runs again, up to kReadAttempts times, and the Distributed tables pick a live replica of each
+  /// shard (load_balancing, connect_timeout_with_failover_ms). Throws the last error after that.
+  std::string read(const std::string& sql) const;
+  static constexpr int kReadAttempts = 4;
   void drop_partitions(const std::string& id);
   /// One catalogue row of `id` (a dataset, or with `deleted` its tombstone), written with the insert quorum:
   /// the row that makes a dataset visible, or invisible, at once.
@@ -88,6 +158,8 @@ class ClickHouseStore final : public DatasetStore {
   std::map<std::string, Meta> catalogue_;  ///< the visible datasets
   mutable std::map<std::string, std::shared_ptr<const Dataset>> loaded_;
   mutable std::mutex load_mu_;  ///< one dataset fetched at a time
+  mutable std::atomic<std::uint64_t> reads_{0};
+  std::function<void(const std::string&, double)> observer_;
 };
 
 /// The store a `--store` option names: "" or "embedded" → the embedded store at `data_dir`;
