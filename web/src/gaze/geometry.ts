@@ -124,3 +124,13 @@ export function fitTransform(width: number, height: number, viewW: number, viewH
   const k = Math.max(1e-6, Math.min((viewW - 2 * margin) / width, (viewH - 2 * margin) / height));
   return { k, x: (viewW - k * width) / 2, y: (viewH - k * height) / 2 };
 }
+
+/** The longest time from a scanpath's first fixation start to its last one's (ms; 0 when none). */
+export function scanpathSpanMs(paths: readonly { fixations: readonly Fixation[] }[]): number {
+  let m = 0;
+  for (const p of paths) {
+    const n = p.fixations.length;
+    if (n > 1) m = Math.max(m, p.fixations[n - 1]!.t_start_ms - p.fixations[0]!.t_start_ms);
+  }
+  return m;
+}
