@@ -69,6 +69,7 @@ export class GazeView {
   private readonly fixationLegend: HTMLElement;
   private readonly drawButtons: Record<'rect' | 'polygon', HTMLButtonElement>;
   private readonly title: HTMLElement;
+  private readonly aoiName: HTMLInputElement;
   private readonly stage: StimulusView;
   private readonly aoiPanel: AoiPanel;
   private readonly watch: JobWatch;
@@ -180,6 +181,7 @@ export class GazeView {
       polygon: h('button', { type: 'button', class: 'btn small', 'data-testid': 'aoi-draw-polygon', 'aria-pressed': 'false', onclick: () => this.toggleDraw('polygon') }, 'Draw polygon'),
     };
     this.title = h('div', { class: 'gaze-title', 'data-testid': 'gaze-title' });
+    this.aoiName = h('input', { type: 'text', placeholder: 'next: AOI n', maxlength: 32, 'data-testid': 'aoi-name', 'aria-label': 'Name of the next area of interest' });
 
     const sidebar = h(
       'aside',
@@ -223,7 +225,7 @@ export class GazeView {
         this.fixationLegend,
         h('div', { class: 'gaze-row' }, this.bundleBtn, this.bundleStatus),
       ),
-      h('section', { class: 'panel' }, sectionHead('Areas of interest'), h('div', { class: 'gaze-row' }, this.drawButtons.rect, this.drawButtons.polygon), h('div', { class: 'small muted' }, 'Rectangle: drag. Polygon: click the corners, then click the first one or double-click.')),
+      h('section', { class: 'panel' }, sectionHead('Areas of interest'), labelled('Name', this.aoiName), h('div', { class: 'gaze-row' }, this.drawButtons.rect, this.drawButtons.polygon), h('div', { class: 'small muted' }, 'Rectangle: drag. Polygon: click the corners, then click the first one or double-click.')),
     );
     const main = h('div', { class: 'gaze-main' }, this.title, this.stage.el, this.aoiPanel.el);
     this.root = h('div', { class: 'gaze-root', 'data-testid': 'gaze', 'data-state': 'idle' }, sidebar, main);
@@ -572,10 +574,10 @@ export class GazeView {
   }
 
   private addAoi(shape: { rect: [number, number, number, number] } | { polygon: [number, number][] }) {
-    let name = nextAoiName(this.route.aois.map((a) => a.name));
-    const asked = window.prompt('Name of the area of interest', name);
-    if (asked === null) return;
-    if (AOI_NAME.test(asked.trim()) && !this.route.aois.some((a) => a.name === asked.trim())) name = asked.trim();
+    // The name field's name when it is a valid, unused one; else the next "AOI n".
+    const asked = this.aoiName.value.trim();
+    const name = AOI_NAME.test(asked) && !this.route.aois.some((a) => a.name === asked) ? asked : nextAoiName(this.route.aois.map((a) => a.name));
+    this.aoiName.value = '';
     this.toggleDraw(null);
     this.setAois([...this.route.aois, { name, ...shape } as Aoi]);
   }
