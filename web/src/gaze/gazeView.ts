@@ -227,7 +227,8 @@ export class GazeView {
       ),
       h('section', { class: 'panel' }, sectionHead('Areas of interest'), labelled('Name', this.aoiName), h('div', { class: 'gaze-row' }, this.drawButtons.rect, this.drawButtons.polygon), h('div', { class: 'small muted' }, 'Rectangle: drag. Polygon: click the corners, then click the first one or double-click.')),
     );
-    const main = h('div', { class: 'gaze-main' }, this.title, this.stage.el, this.aoiPanel.el);
+    const head = h('div', { class: 'gaze-head' }, this.title, h('button', { type: 'button', class: 'btn small', 'data-testid': 'gaze-fit', title: 'Show the whole stimulus', onclick: () => this.stage.fit() }, 'Fit'));
+    const main = h('div', { class: 'gaze-main' }, head, this.stage.el, this.aoiPanel.el);
     this.root = h('div', { class: 'gaze-root', 'data-testid': 'gaze', 'data-state': 'idle' }, sidebar, main);
     host.append(this.root);
     window.addEventListener('keydown', (e) => {
@@ -356,7 +357,10 @@ export class GazeView {
     handle.done
       .then(async (job) => {
         up.job = job;
-        const end = await this.watch.follow(job);
+        const end = await this.watch.follow(job, (j) => {
+          up.job = j;
+          this.renderJobs();
+        });
         if (end.state !== 'done') throw new ApiError(0, end.error ?? { error: end.state, detail: `ingest ${end.state}` });
         const id = (end.result as { gaze?: string } | undefined)?.gaze ?? name;
         if (image) {
@@ -467,7 +471,6 @@ export class GazeView {
   }
 
   private reload() {
-    this.syncControls();
     const d = this.detail;
     if (!d) return;
     this.ctrl.abort();

@@ -53,6 +53,8 @@ export class StimulusView {
   private vertices: [number, number][] = [];
   private z = -1;
   private fitted = false;
+  /** The user panned or zoomed: a resize keeps their view instead of fitting the stimulus again. */
+  private userMoved = false;
 
   constructor(private readonly events: StimulusViewEvents) {
     this.imageCanvas = h('canvas', { class: 'gaze-layer', 'data-testid': 'gaze-image' });
@@ -77,6 +79,7 @@ export class StimulusView {
       .filter((ev: Event) => (this.mode === 'none' ? !(ev as MouseEvent).button && !(ev as MouseEvent).ctrlKey : ev.type === 'wheel'))
       .on('zoom', (ev: D3ZoomEvent<SVGSVGElement, unknown>) => {
         this.t = ev.transform;
+        if (ev.sourceEvent) this.userMoved = true;
         this.el.dataset.k = String(this.t.k);
         this.world.setAttribute('transform', this.t.toString());
         this.schedule();
@@ -87,7 +90,7 @@ export class StimulusView {
     this.overlay.addEventListener('pointerup', (e) => this.pointerUp(e));
     this.overlay.addEventListener('dblclick', (e) => this.finishPolygon(e));
     new ResizeObserver(() => {
-      if (!this.fitted && this.width > 0) this.fit();
+      if ((!this.fitted || !this.userMoved) && this.width > 0) this.fit();
       this.schedule();
     }).observe(this.el);
   }
@@ -105,8 +108,9 @@ export class StimulusView {
     this.schedule();
   }
 
-  /** Fits the whole stimulus into the view. */
+  /** Fits the whole stimulus into the view (and forgets the user's pan and zoom). */
   fit(): void {
+    this.userMoved = false;
     const r = this.el.getBoundingClientRect();
     if (!(this.width > 0) || r.width < 10 || r.height < 10) return;
     const f = fitTransform(this.width, this.height, r.width, r.height);
