@@ -207,4 +207,19 @@ inline constexpr std::uint64_t kMinBodyBytesPerSecond = 4096;
 /// Largest request header (request line and fields, bytes); a larger one is refused with 431.
 inline constexpr std::size_t kMaxRequestHeaderBytes = 16u << 10;
 
+// --- stored gaze datasets (store/gaze_store.hpp, routes/gaze.cpp) ------------------------------------
+/// Largest gaze file upload of POST /api/v1/gaze (bytes): the whole file is parsed in memory, so no more
+/// than the compute library reads (kMaxGazeFileBytes).
+inline constexpr std::uint64_t kMaxGazeUploadBytes = kMaxGazeFileBytes;
+/// Most events one answer of GET .../gaze/{id}/events lists (and fixations of one .../scanpaths answer);
+/// more is 413 (narrow the filters). ~150 bytes of JSON each: ~75 MB at most.
+inline constexpr std::size_t kMaxGazeEvents = 500'000;
+/// Largest stimulus image of PUT .../gaze/{id}/stimulus (bytes; PNG or JPEG).
+inline constexpr std::uint64_t kMaxGazeStimulusBytes = 32u << 20;  // 32 MiB
+/// Most pixels (width x height) of a stimulus image, read from its header before it is decoded (~4 bytes
+/// each while decoding): a 50 MP photograph, far above any stimulus screen.
+inline constexpr std::uint64_t kMaxGazeStimulusPixels = 50'000'000;
+/// Gaze datasets the server stores; one more is refused (409).
+inline constexpr std::size_t kMaxStoredGazeDatasets = 1000;
+
 }  // namespace trailscope::limits

@@ -226,6 +226,12 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kBodyRateGraceSeconds", double(L::kBodyRateGraceSeconds)},
       {"kMinBodyBytesPerSecond", double(L::kMinBodyBytesPerSecond)},
       {"kMaxRequestHeaderBytes", double(L::kMaxRequestHeaderBytes)},
+      // Stored gaze datasets (store/gaze_store.hpp, routes/gaze.cpp).
+      {"kMaxGazeUploadBytes", double(L::kMaxGazeUploadBytes)},
+      {"kMaxGazeEvents", double(L::kMaxGazeEvents)},
+      {"kMaxGazeStimulusBytes", double(L::kMaxGazeStimulusBytes)},
+      {"kMaxGazeStimulusPixels", double(L::kMaxGazeStimulusPixels)},
+      {"kMaxStoredGazeDatasets", double(L::kMaxStoredGazeDatasets)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

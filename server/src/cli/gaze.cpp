@@ -7,6 +7,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
+#include "jobs/gaze_ingest_job.hpp"
+#include "store/gaze_store.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/json_text.hpp"
 #include "trailscope/gaze/events.hpp"
@@ -115,7 +117,33 @@ void add_gaze_ingest(CLI::App* parent) {
       "damaged or not gaze data.");
   auto o = std::make_shared<ReadOpts>();
   o->add_to(cmd);
-  cmd->callback([o] {
+  auto dir = std::make_shared<std::string>(default_data_dir());
+  auto name = std::make_shared<std::string>();
+  cmd->add_option("--name", *name,
+                  "store the file as gaze dataset NAME (1-64 of a-z 0-9 _ -) in the data folder instead of "
+                  "only printing it; recordings that name no participant get NAME");
+  cmd->add_option("--data-dir", *dir, "data folder of --name")->capture_default_str();
+  cmd->callback([o, dir, name] {
+    if (!name->empty()) {
+      if (o->files.size() != 1)
+        throw invalid_argument("files",
+                               "--name stores exactly one file, got " + std::to_string(o->files.size()));
+      server::GazeStore store(*dir, server::GazeStore::Leftovers::keep);  // a server may be writing there
+      server::GazeIngestRequest req;
+      req.file = o->files.front();
+      req.name = *name;
+      req.options = o->options();
+      ProgressBar bar("gaze ingest", !o->quiet);
+      const nlohmann::json res = server::ingest_gaze_into_store(
+          store, req, [&](double f, std::string_view stage) { bar.update(f, stage); }, nullptr);
+      bar.update(1.0, "done");
+      if (o->json)
+        std::cout << json_text(res, 2) << std::endl;
+      else
+        std::cout << "stored gaze dataset '" << *name << "' in " << *dir << ": " << res.at("recordings")
+                  << " recording(s), " << res.at("samples") << " samples\n";
+      return;
+    }
     const auto sets = o->read();
     if (o->json) {
       nlohmann::json files = nlohmann::json::array();
@@ -234,13 +262,50 @@ void add_gaze_events(CLI::App* parent) {
   });
 }
 
+void add_gaze_list(CLI::App* parent) {
+  auto* cmd = parent->add_subcommand("list", "List the gaze datasets of a data folder");
+  auto dir = std::make_shared<std::string>(default_data_dir());
+  auto json = std::make_shared<bool>(false);
+  cmd->add_option("--data-dir", *dir, "data folder")->capture_default_str();
+  cmd->add_flag("--json", *json, "print the API's list ({\"datasets\": [...]})");
+  cmd->callback([dir, json] {
+    const server::GazeStore store(*dir, server::GazeStore::Leftovers::keep);
+    const auto list = store.list();
+    if (*json) {
+      std::cout << json_text({{"datasets", list}}, 2) << std::endl;
+      return;
+    }
+    for (const auto& d : list)
+      std::cout << d.at("id").get<std::string>() << ": " << d.at("recordings") << " recording(s), "
+                << d.at("samples") << " samples, " << d.at("format").get<std::string>() << ", created "
+                << d.at("created").get<std::string>() << "\n";
+  });
+}
+
+void add_gaze_delete(CLI::App* parent) {
+  auto* cmd = parent->add_subcommand("delete", "Delete a gaze dataset of a data folder (atomically)");
+  auto dir = std::make_shared<std::string>(default_data_dir());
+  auto id = std::make_shared<std::string>();
+  cmd->add_option("id", *id, "the gaze dataset")->required();
+  cmd->add_option("--data-dir", *dir, "data folder")->capture_default_str();
+  cmd->callback([dir, id] {
+    server::GazeStore store(*dir, server::GazeStore::Leftovers::keep);
+    store.remove(*id);
+    std::cout << "deleted gaze dataset '" << *id << "'\n";
+  });
+}
+
 }  // namespace
 
 void add_gaze(CLI::App& app) {
-  auto* cmd = app.add_subcommand("gaze", "Eye-tracking gaze files: ingest, fixation and saccade events");
+  auto* cmd = app.add_subcommand(
+      "gaze",
+      "Eye-tracking gaze files: ingest (and store), fixation and saccade events; stored gaze datasets");
   cmd->require_subcommand(1);
   add_gaze_ingest(cmd);
   add_gaze_events(cmd);
+  add_gaze_list(cmd);
+  add_gaze_delete(cmd);
 }
 
 }  // namespace trailscope::cli

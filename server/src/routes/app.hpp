@@ -19,6 +19,7 @@
 #include "store/sweep_store.hpp"
 #include "store/run_store.hpp"
 #include "store/video_store.hpp"
+#include "store/gaze_store.hpp"
 #include "replay/replay_manager.hpp"
 #include "bundle_stream/bundle_stream_session.hpp"
 #include "store/tile_cache.hpp"
@@ -62,6 +63,9 @@ struct App {
   /// The access check, sessions and sign-in codes over the tokens of <data_root>/tokens.json (in memory
   /// only without a data_root); make_router installs its check. Always present.
   std::shared_ptr<Access> access;
+  /// Stored gaze datasets in `data_root` (null without one: the gaze routes then answer 500); leftovers of
+  /// interrupted writes are removed at start (the server owns the data folder).
+  std::shared_ptr<GazeStore> gaze;
 
   App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::filesystem::path web,
       std::size_t tile_cache_bytes, const std::filesystem::path& data_root = {});

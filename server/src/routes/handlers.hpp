@@ -107,4 +107,17 @@ void create_video_check(App& app, const Request& req, const PathParams& p);
 void create_run_check(App& app, const Request& req, const PathParams& p);
 void create_mot_check(App& app, const Request& req, const PathParams& p);
 
+/// Stored gaze datasets (store/gaze_store.hpp): an upload ingested by a job (jobs/gaze_ingest_job.hpp) and
+/// its precheck (name, room, parameters), list, describe, delete; the events and scanpaths of a selection
+/// (gaze/query.hpp, params/gaze_filters.hpp); a stimulus image stored and served.
+void create_gaze_check(App& app, const Request& req, const PathParams& p);
+Response create_gaze(App& app, const Request& req, const PathParams& p);
+Response list_gaze(App& app, const Request& req, const PathParams& p);
+Response get_gaze(App& app, const Request& req, const PathParams& p);
+Response delete_gaze(App& app, const Request& req, const PathParams& p);
+Response gaze_events(App& app, const Request& req, const PathParams& p);
+Response gaze_scanpaths(App& app, const Request& req, const PathParams& p);
+Response put_gaze_stimulus(App& app, const Request& req, const PathParams& p);
+Response get_gaze_stimulus(App& app, const Request& req, const PathParams& p);
+
 }  // namespace trailscope::server::handlers

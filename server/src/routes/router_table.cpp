@@ -22,6 +22,7 @@ App::App(std::shared_ptr<DatasetStore> s, std::filesystem::path uploads, std::fi
     mot = std::make_shared<MotStore>(data_root);
     sweeps = std::make_shared<SweepStore>(data_root);
     sectors = std::make_shared<SectorStore>(data_root);
+    gaze = std::make_shared<GazeStore>(data_root, GazeStore::Leftovers::remove);
   }
   bundle_streams = std::make_shared<BundleStreams>(store);
   access = std::make_shared<Access>(
@@ -169,6 +170,18 @@ Router make_router(App& app) {
       .on(Lane::compute);  // 200 400 404 413
   r.add("GET", "/api/v1/datasets/{dataset}/density/legend", bind(density_legend))
       .on(Lane::compute);  // 200 400 404
+  // Stored gaze datasets (routes/gaze.cpp): upload (a job), list, describe, delete; events and scanpaths
+  // under the shared gaze filters; stimulus images.
+  r.add("GET", "/api/v1/gaze", bind(list_gaze));  // 200
+  r.add("POST", "/api/v1/gaze", bind(create_gaze), upload(limits::kMaxGazeUploadBytes, "gaze upload"))
+      .checked_first(check(create_gaze_check));                                             // 202 400 409 413
+  r.add("GET", "/api/v1/gaze/{gaze}", bind(get_gaze));                                     // 200 404
+  r.add("DELETE", "/api/v1/gaze/{gaze}", bind(delete_gaze));                               // 204 403 404
+  r.add("GET", "/api/v1/gaze/{gaze}/events", bind(gaze_events)).on(Lane::compute);        // 200 400 404 413
+  r.add("GET", "/api/v1/gaze/{gaze}/scanpaths", bind(gaze_scanpaths)).on(Lane::compute);  // 200 400 404 413
+  r.add("PUT", "/api/v1/gaze/{gaze}/stimulus", bind(put_gaze_stimulus),
+        BodyRule{limits::kMaxGazeStimulusBytes, false, "stimulus image"});  // 200 400 403 404 413 415 422
+  r.add("GET", "/api/v1/gaze/{gaze}/stimulus", bind(get_gaze_stimulus));    // 200 400 404
   r.set_access(access_check(app.access));
   r.set_fallback(bind(static_file));
   return r;
