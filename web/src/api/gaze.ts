@@ -3,10 +3,10 @@
 // stimulus-space density tiles and the saccade bundling job. Query building is pure (gazeQuery, tileUrl),
 // unit-tested in gaze.test.ts.
 
-import { fetchOk, request, uploadFile, type UploadHandle } from './client';
+import { request, uploadFile, type UploadHandle } from './client';
 import type { BundleAccepted } from './types';
 import type { DensityLegendAnswer } from '../lib/legend';
-import type { Aoi, AoiAnswer, GazeDataset, GazeDatasetList, GazeEvents, GazeEventType, GazeFilters, GazeTileWhat, Scanpaths } from './gazeTypes';
+import type { Aoi, AoiAnswer, GazeDataset, GazeDatasetList, GazeEvents, GazeEventType, GazeFilters, GazeFormat, GazeStimulusImage, GazeTileWhat, Scanpaths } from './gazeTypes';
 
 export const gazePath = (id: string) => `/api/v1/gaze/${encodeURIComponent(id)}`;
 
@@ -67,7 +67,7 @@ export function gazeStimulusUrl(id: string, stimulus: string): string {
 
 export interface GazeUploadOptions {
   name: string;
-  format?: string;
+  format?: GazeFormat | '';
   participant?: string;
   stimulus?: string;
   width_px?: number;
@@ -100,13 +100,12 @@ export const gazeApi = {
     uploadFile(`/api/v1/gaze?${gazeUploadQuery(o).toString()}`, file, onProgress),
 
   /** Stores the image of `stimulus` (PNG or JPEG bytes). */
-  async putStimulus(id: string, stimulus: string, image: Blob): Promise<void> {
-    await fetchOk(gazeStimulusUrl(id, stimulus), {
+  putStimulus: (id: string, stimulus: string, image: Blob) =>
+    request<GazeStimulusImage>(gazeStimulusUrl(id, stimulus), {
       method: 'PUT',
       headers: { 'Content-Type': image.type || 'application/octet-stream' },
       body: image,
-    });
-  },
+    }),
 
   events(id: string, f: GazeFilters, types: readonly GazeEventType[], signal?: AbortSignal) {
     const q = gazeQuery(f, { type: types.length ? types.join(',') : null });

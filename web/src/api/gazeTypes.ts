@@ -8,8 +8,8 @@ export const GAZE_METHODS: readonly GazeMethod[] = ['ivt', 'idt', 'adaptive'];
 export type GazeEventType = 'fixation' | 'saccade' | 'pso' | 'pursuit' | 'blink' | 'undefined';
 export const GAZE_EVENT_TYPES: readonly GazeEventType[] = ['fixation', 'saccade', 'pso', 'pursuit', 'blink', 'undefined'];
 
-/** The formats compute/gaze/ingest reads (`format=`; empty: detected by content). */
-export type GazeFormat = 'eyelink_asc' | 'tobii' | 'smi' | 'arff' | 'plain' | 'coord' | 'sgt' | 'bids_events' | string;
+/** The formats compute/gaze/ingest reads (`format=`; absent or auto: detected by content). */
+export type GazeFormat = 'auto' | 'eyelink_asc' | 'tobii_tsv' | 'psychopy_tobii' | 'smi_idf_text' | 'gazecom_arff' | 'dsf_coord' | 'simple_gaze_tracker' | 'plain';
 
 export interface GazeGeometry {
   width_px: number | null;
@@ -29,9 +29,23 @@ export interface GazeRecording {
   rate_hz: number | null;
   samples: number;
   valid_samples: number;
-  t0_ms: number;
-  t1_ms: number;
+  /** First and last sample's time on the tracker's clock (null for a recording without samples). */
+  t0_ms: number | null;
+  t1_ms: number | null;
   geometry: GazeGeometry;
+  tracker_events?: number;
+  /** Per-sample label columns of the file (e.g. coders' labels). */
+  annotations?: string[];
+}
+
+/** An uploaded stimulus image (PUT /gaze/{id}/stimulus answers one; GET /gaze/{id} lists them). */
+export interface GazeStimulusImage {
+  stimulus: string;
+  file: string;
+  content_type: 'image/png' | 'image/jpeg';
+  width_px: number;
+  height_px: number;
+  bytes: number;
 }
 
 /** One gaze data set of GET /gaze (the list) and GET /gaze/{id} (with its recordings). */
@@ -47,8 +61,10 @@ export interface GazeDataset {
   participants: string[];
   stimuli: string[];
   recording_list?: GazeRecording[];
-  /** Stimuli with an uploaded image (when the server says). */
-  stimulus_images?: string[];
+  /** Size of the stored recordings file (bytes). */
+  bytes?: number;
+  /** The stimuli's uploaded images (GET /gaze/{id}). */
+  stimulus_images?: GazeStimulusImage[];
 }
 
 export interface GazeDatasetList {
@@ -85,8 +101,9 @@ export interface GazeEvents {
 }
 
 export interface Fixation {
-  x: number;
-  y: number;
+  /** The centroid; null when the fixation has no valid sample position. */
+  x: number | null;
+  y: number | null;
   t_start_ms: number;
   duration_ms: number;
 }
@@ -99,6 +116,7 @@ export interface Scanpath {
 }
 
 export interface Scanpaths {
+  method?: GazeMethod;
   scanpaths: Scanpath[];
 }
 

@@ -5,7 +5,7 @@
 
 import { ApiError, api, isAbort } from '../api/client';
 import { gazeApi, gazeStimulusUrl, gazeTileUrl, type GazeTileRender } from '../api/gaze';
-import { GAZE_EVENT_TYPES, GAZE_METHODS, type Aoi, type AoiAnswer, type GazeDataset, type GazeEventType, type GazeFilters, type GazeMethod, type Scanpath } from '../api/gazeTypes';
+import { GAZE_EVENT_TYPES, GAZE_METHODS, type Aoi, type AoiAnswer, type GazeDataset, type GazeEventType, type GazeFilters, type GazeFormat, type GazeMethod, type Scanpath } from '../api/gazeTypes';
 import type { Job } from '../api/types';
 import { cubuRainbow, LEGEND_STOPS, densityTicks, linearTicks, renderLegend } from '../lib/legend';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
@@ -21,12 +21,15 @@ import './gaze.css';
 /** The density tiles' colour map (the server's name). */
 const CMAP = 'fire';
 
-const FORMATS: [string, string][] = [
+const FORMATS: ['' | GazeFormat, string][] = [
   ['', 'Auto (by content)'],
   ['eyelink_asc', 'EyeLink ASC'],
-  ['tobii', 'Tobii TSV/CSV'],
-  ['smi', 'SMI iView text'],
-  ['arff', 'GazeCom ARFF'],
+  ['tobii_tsv', 'Tobii TSV/CSV'],
+  ['psychopy_tobii', 'PsychoPy Tobii TSV'],
+  ['smi_idf_text', 'SMI iView text'],
+  ['gazecom_arff', 'GazeCom ARFF'],
+  ['dsf_coord', 'DSF coord'],
+  ['simple_gaze_tracker', 'SimpleGazeTracker CSV'],
   ['plain', 'time x y [valid]'],
 ];
 
@@ -347,7 +350,7 @@ export class GazeView {
     const image = this.upImage.files?.[0] ?? null;
     const geometry = Object.fromEntries(Object.entries(this.upGeometry).map(([k, i]) => [k, numOrNull(i) ?? undefined]));
     this.uploadError.textContent = '';
-    const handle = gazeApi.upload(file, { name, format: this.upFormat.value, participant: this.upParticipant.value.trim(), stimulus, ...geometry }, (f) => {
+    const handle = gazeApi.upload(file, { name, format: this.upFormat.value as GazeFormat | '', participant: this.upParticipant.value.trim(), stimulus, ...geometry }, (f) => {
       up.fraction = f;
       this.renderJobs();
     });
@@ -449,14 +452,17 @@ export class GazeView {
 
   // ---------- the stimulus and its layers ----------
 
-  /** The stimulus's size: the recordings' screen geometry, else the image's, else the scanpaths' extent. */
+  /**
+   * The stimulus's size: the recordings' screen geometry (the pixel space of the gaze positions), else the
+   * image's, else the scanpaths' extent.
+   */
   private stimulusSize(image: HTMLImageElement | null, paths: readonly Scanpath[]): [number, number] {
     const rec = this.detail?.recording_list?.find((r) => (!this.route.stimulus || r.stimulus === this.route.stimulus) && r.geometry.width_px && r.geometry.height_px);
     if (rec) return [rec.geometry.width_px!, rec.geometry.height_px!];
     if (image && image.naturalWidth) return [image.naturalWidth, image.naturalHeight];
     let w = 1;
     let hh = 1;
-    for (const p of paths) for (const f of p.fixations) (w = Math.max(w, f.x)), (hh = Math.max(hh, f.y));
+    for (const p of paths) for (const f of p.fixations) if (f.x !== null && f.y !== null) (w = Math.max(w, f.x)), (hh = Math.max(hh, f.y));
     return [Math.ceil(w), Math.ceil(hh)];
   }
 
@@ -487,7 +493,8 @@ export class GazeView {
     try {
       const types = this.route.types.length ? this.route.types : [...DEFAULT_TYPES];
       const [image, sp, ev] = await Promise.all([
-        stimulus ? this.loadImage(gazeStimulusUrl(d.id, stimulus), signal) : Promise.resolve(null),
+        // Only a stimulus with an uploaded image is asked for (no 404 for the others).
+        stimulus && (d.stimulus_images ?? []).some((i) => i.stimulus === stimulus) ? this.loadImage(gazeStimulusUrl(d.id, stimulus), signal) : Promise.resolve(null),
         gazeApi.scanpaths(d.id, f, signal),
         gazeApi.events(d.id, f, types, signal),
       ]);

@@ -9,7 +9,7 @@ import { select, type Selection } from 'd3-selection';
 import { zoom, zoomIdentity, type D3ZoomEvent, type ZoomBehavior, type ZoomTransform } from 'd3-zoom';
 import { pointer } from 'd3-selection';
 import { scaleLinear } from 'd3-scale';
-import type { Aoi, GazeEvent, Scanpath } from '../api/gazeTypes';
+import type { Aoi, Fixation, GazeEvent, Scanpath } from '../api/gazeTypes';
 import { h, svg } from '../lib/dom';
 import { aoiPath, closesPolygon, scanpathSpanMs, dragRect, fitTransform, fixationRadius, maxFixationMs, paintedPixels, tileSide, tileZoom, visibleTiles } from './geometry';
 
@@ -142,7 +142,9 @@ export class StimulusView {
       .range(FIXATION_RAMP)
       .clamp(true);
     let drawn = 0;
-    paths.forEach((p, i) => {
+    paths.forEach((path, i) => {
+      // A fixation without a valid position (null centroid) has no place on the stimulus.
+      const p = { ...path, fixations: path.fixations.filter((f): f is Fixation & { x: number; y: number } => f.x !== null && f.y !== null) };
       const color = PATH_COLORS[i % PATH_COLORS.length]!;
       const pg = svg('g', { class: 'scanpath', 'data-recording': p.recording, 'data-participant': p.participant, 'data-fixations': p.fixations.length });
       if (p.fixations.length > 1) {
