@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { aoiPath, closesPolygon, dragRect, fitTransform, fixationRadius, maxFixationMs, nextAoiName, paintedPixels, tileZoom, visibleTiles } from './geometry';
+import { aoiPath, closesPolygon, dragRect, fitTransform, fixationRadius, maxFixationMs, nextAoiName, paintedPixels, scanpathSpanMs, tileZoom, visibleTiles } from './geometry';
 
 describe('tile zoom', () => {
   it('is the zoom at about one tile pixel per CSS pixel', () => {
@@ -84,5 +84,13 @@ describe('view helpers', () => {
     expect(t.k).toBe(1);
     expect(t.x).toBe(8);
     expect(t.y).toBe(16);
+  });
+});
+
+describe('scanpath span', () => {
+  it('is the longest first-to-last fixation start', () => {
+    const f = (t: number) => ({ x: 0, y: 0, t_start_ms: t, duration_ms: 10 });
+    expect(scanpathSpanMs([{ fixations: [f(100), f(400), f(900)] }, { fixations: [f(5000), f(5300)] }, { fixations: [f(7)] }, { fixations: [] }])).toBe(800);
+    expect(scanpathSpanMs([])).toBe(0);
   });
 });
