@@ -242,6 +242,12 @@ export class GazeView {
 
   /** Shows the view for `hash` (a "#gaze…" hash). */
   async activate(hash: string): Promise<void> {
+    // The bare tab link ("#gaze") returns to the view this tab showed last.
+    if (/^#gaze\/?$/.test(hash) && this.route.dataset) {
+      this.syncHash();
+      await this.loadList();
+      return;
+    }
     const next = parseGazeHash(hash);
     const changedSet = next.dataset !== this.route.dataset || !this.detail;
     this.route = next;
@@ -524,7 +530,6 @@ export class GazeView {
   private applyLayers() {
     const b = this.layerBoxes;
     this.stage.el.querySelector<HTMLElement>('[data-testid="gaze-density"]')!.hidden = !b.density.checked;
-    this.stage.el.querySelector('.gaze-scanpaths')!.toggleAttribute('display', false);
     const show = (sel: string, on: boolean) => this.stage.el.querySelector(sel)?.setAttribute('display', on ? 'inline' : 'none');
     show('.gaze-scanpaths', b.scanpaths.checked);
     show('.gaze-saccades', b.saccades.checked && this.route.types.includes('saccade'));
