@@ -88,4 +88,49 @@ contains "image message" "binary data, not a gaze text file" "$TMP/err"
 "$BIN" gaze ingest "$COORD" --format nope --quiet > /dev/null 2> "$TMP/err"
 check "bad format exit" 2 $?
 contains "bad format message" 'unknown gaze format "nope"' "$TMP/err"
+# Storing into a data folder: --name --data-dir, then list and delete; the counts made here with grep.
+DATA=$TMP/data
+MONO=$GAZE/eyelinker_sr_research/mono500.asc
+"$BIN" gaze ingest "$MONO" --name mono --data-dir "$DATA" --json --quiet > "$TMP/store.json"
+check "store ingest exit" 0 $?
+check "stored recordings" "$(grep -c '^START' "$MONO")" "$(json 'd["recordings"]' < "$TMP/store.json")"
+check "stored samples" "$(grep -c '^[0-9]' "$MONO")" "$(json 'd["samples"]' < "$TMP/store.json")"
+test -f "$DATA/gaze/mono/recordings.tsgz" && test -f "$DATA/gaze/mono/manifest.json"
+check "stored files" 0 $?
+"$BIN" gaze list --data-dir "$DATA" --json > "$TMP/list.json"
+check "list ids" "['mono']" "$(json '[x["id"] for x in d["datasets"]]' < "$TMP/list.json")"
+check "list samples" "$(grep -c '^[0-9]' "$MONO")" "$(json 'd["datasets"][0]["samples"]' < "$TMP/list.json")"
+"$BIN" gaze ingest "$MONO" --name mono --data-dir "$DATA" --quiet > /dev/null 2> "$TMP/err"
+check "taken name exit" 2 $?
+contains "taken name message" "trailscope: gaze dataset 'mono' already exists" "$TMP/err"
+"$BIN" gaze ingest "$MONO" --name "Bad Name" --data-dir "$DATA" --quiet > /dev/null 2> "$TMP/err"
+check "bad name exit" 2 $?
+"$BIN" gaze ingest "$TMP/cut.coord" --name cut --data-dir "$DATA" --quiet > /dev/null 2> "$TMP/err"
+check "damaged store exit" 2 $?
+contains "damaged store message" "line 51: coord row has 2 fields, expected at least 4 (truncated?)" "$TMP/err"
+test ! -e "$DATA/gaze/cut"
+check "damaged file stored nothing" 0 $?
+# Killed mid-write (every sample written, the manifest not yet): nothing listed, nothing in gaze/.
+TRAILSCOPE_FAILPOINT=store.write.before_manifest "$BIN" gaze ingest "$MONO" --name killed --data-dir "$DATA" \
+  --quiet > /dev/null 2> "$TMP/err"
+check "killed exit" 137 $?
+contains "killed at the failpoint" "failpoint store.write.before_manifest: SIGKILL" "$TMP/err"
+test ! -e "$DATA/gaze/killed"
+check "killed write left no dataset" 0 $?
+check "killed write's staging folder is in tmp/ (a CLI keeps it; the server removes it at start)" 1 \
+  "$(ls "$DATA/tmp" | grep -c '^gaze\.killed\.')"
+check "killed write not listed" "['mono']" "$("$BIN" gaze list --data-dir "$DATA" --json | json '[x["id"] for x in d["datasets"]]')"
+TRAILSCOPE_FAILPOINT=store.publish.after_rename "$BIN" gaze ingest "$MONO" --name whole --data-dir "$DATA" \
+  --quiet > /dev/null 2> "$TMP/err"
+check "killed after rename exit" 137 $?
+check "renamed dataset is whole" "['mono', 'whole']" \
+  "$("$BIN" gaze list --data-dir "$DATA" --json | json '[x["id"] for x in d["datasets"]]')"
+"$BIN" gaze delete whole --data-dir "$DATA" > "$TMP/out"
+check "delete exit" 0 $?
+contains "delete message" "deleted gaze dataset 'whole'" "$TMP/out"
+"$BIN" gaze delete whole --data-dir "$DATA" > /dev/null 2> "$TMP/err"
+check "delete again exit" 2 $?
+contains "delete again message" "gaze dataset 'whole' does not exist" "$TMP/err"
+"$BIN" gaze list --data-dir "$DATA" > "$TMP/out"
+contains "list table" "mono: $(grep -c '^START' "$MONO") recording(s), $(grep -c '^[0-9]' "$MONO") samples, eyelink_asc" "$TMP/out"
 finish

@@ -50,7 +50,8 @@ nlohmann::json ingest_gaze_into_store(GazeStore& store, GazeIngestRequest req, c
 JobState submit_gaze_ingest(JobManager& jobs, std::shared_ptr<GazeStore> store, GazeIngestRequest req,
                             std::shared_ptr<DiskBudget> disk) {
   std::string name = req.name, owner = req.owner;
-  auto cleanup = std::make_shared<UploadFile>(UploadFile{req.file});
+  auto cleanup = std::make_shared<UploadFile>();  // (not from a temporary, whose end would remove it)
+  cleanup->path = req.file;
   return jobs.submit(
       "gaze_ingest", std::move(name),
       [store, req, disk, cleanup](const ProgressFn& progress, const CancelToken& cancel) mutable {
