@@ -90,7 +90,12 @@ await test('upload: progress shown, the data set listed with the file\'s and the
     }).observe(document.querySelector('[data-testid="gaze-jobs"]'), { subtree: true, childList: true, attributes: true });
   });
   await page.setInputFiles(sel('gaze-upload-input'), FILE);
-  await page.waitForSelector(`${sel('gaze-item')}[data-id="${NAME}"]`, { timeout: 120_000 });
+  // The data set listed, or the upload's error shown.
+  await page.waitForFunction(
+    (n) => document.querySelector(`[data-testid="gaze-item"][data-id="${n}"]`) || document.querySelector('[data-testid="gaze-upload-error"]')?.textContent?.trim(),
+    NAME,
+    { timeout: 120_000 },
+  );
   const err = (await page.textContent(sel('gaze-upload-error'))).trim();
   assertEqual(err, '', 'no upload error');
   assert(progress.some((p) => p.startsWith('uploading:')), `the upload's progress was shown (${progress.slice(0, 5).join(', ')})`);
