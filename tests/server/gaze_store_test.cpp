@@ -6,12 +6,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "auth/token_store.hpp"
 #include "jobs/job_manager.hpp"
 #include "route_fixture.hpp"
 #include "store/gaze_file.hpp"
 #include "store/gaze_store.hpp"
 #include "trailscope/gaze/events.hpp"
 #include "trailscope/gaze/ingest.hpp"
+#include "trailscope/gaze/query.hpp"
 
 namespace trailscope::server::test_routes {
 namespace {
@@ -63,7 +65,16 @@ std::string tiny_csv() {
 
 class GazeStoreTest : public RouteFixture {
  protected:
-  void SetUp() override { open_app(); }
+  void SetUp() override {
+    writer = TokenStore(tmp.path() / "store" / "tokens.json").create("bob", Role::writer).token;
+    open_app();
+  }
+  /// A request of the writer "bob" (not the admin the router sends by default).
+  Response as_writer(const std::string& method, const std::string& path, std::string body = {},
+                     std::map<std::string, std::string> query = {}) {
+    return send(method, path, std::move(body), std::move(query), {{"authorization", "Bearer " + writer}});
+  }
+  std::string writer;
   void open_app() {
     router = Router();
     app.reset();
@@ -299,6 +310,26 @@ TEST_F(GazeStoreTest, DeleteRestartAndLeftovers) {
   EXPECT_EQ(cli.size(), 2u);
 }
 
+TEST_F(GazeStoreTest, OnlyTheOwnerOrAnAdminDeletesOrChangesADataset) {
+  uploaded("admins", tiny_csv(), {{"stimulus", "s"}});
+  Response r = as_writer("DELETE", "/api/v1/gaze/admins");
+  expect_error(r, 403, "forbidden", "gaze");
+  EXPECT_EQ(body(r).at("detail"),
+            "gaze dataset 'admins' belongs to 'test-admin'; only its owner or an admin may delete it");
+  r = as_writer("PUT", "/api/v1/gaze/admins/stimulus", "x");
+  expect_error(r, 403, "forbidden", "gaze");
+  EXPECT_EQ(body(r).at("detail"),
+            "gaze dataset 'admins' belongs to 'test-admin'; only its owner or an admin may change it");
+  expect_error(as_writer("DELETE", "/api/v1/gaze/nope"), 404, "not_found", "gaze");  // 404 before 403
+  // The writer's own dataset: recorded as bob's, deleted by bob.
+  r = as_writer("POST", "/api/v1/gaze", tiny_csv(), {{"name", "bobs"}});
+  ASSERT_EQ(r.status, 202) << r.body;
+  EXPECT_EQ(app->jobs.wait(body(r).at("job").at("id").get<std::string>()).state, "done");
+  EXPECT_EQ(body(get("/api/v1/gaze/bobs")).at("owner"), "bob");
+  EXPECT_EQ(as_writer("DELETE", "/api/v1/gaze/bobs").status, 204);
+  EXPECT_EQ(send("DELETE", "/api/v1/gaze/admins").status, 204);
+}
+
 TEST_F(GazeStoreTest, TheBinaryFileRoundTripsAndRefusesDamage) {
   gaze::GazeIngestOptions o;
   gaze::GazeDataset ds =
@@ -473,6 +504,48 @@ TEST_F(GazeStoreTest, StimulusImages) {
   // Still the first image; and after a restart.
   open_app();
   EXPECT_TRUE(get("/api/v1/gaze/lund/stimulus").body == png);
+}
+
+}  // namespace
+}  // namespace trailscope::server::test_routes
+
+namespace trailscope::server::test_routes {
+namespace {
+
+// The selection every gaze view shares (gaze/query.hpp), on a hand-made dataset: two participants, two
+// stimuli, recordings at 2 ms steps whose clocks start at different times.
+TEST(GazeSelection, RecordingsAndWindowsAsDefined) {
+  gaze::GazeDataset ds;
+  const auto rec = [&](const std::string& p, const std::string& s, double t0) {
+    gaze::Recording r;
+    r.participant = p, r.stimulus = s;
+    for (int i = 0; i < 10; ++i)
+      r.t_ms.push_back(t0 + 2 * i), r.x.push_back(i), r.y.push_back(0), r.valid.push_back(1);
+    ds.recordings.push_back(r);
+  };
+  rec("ann", "a.png", 1000), rec("ann", "b.png", 5000), rec("bob", "a.png", 0);
+  gaze::GazeFilter f;
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{0, 1, 2}));
+  f.participant = "ann";
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{0, 1}));
+  f.stimulus = "a.png";
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{0}));
+  f.participant = "bob", f.stimulus = "b.png";  // both exist, never together
+  EXPECT_TRUE(gaze::select_recordings(ds, f).empty());
+  f = {};
+  f.recording = 2;
+  EXPECT_EQ(gaze::select_recordings(ds, f), (std::vector<std::size_t>{2}));
+  // Windows count from each recording's first sample: [4, 10) ms is samples 2..4 whatever the clock.
+  f = {};
+  f.t0_ms = 4, f.t1_ms = 10;
+  for (const auto& r : ds.recordings)
+    EXPECT_EQ(gaze::window_samples(r, f), (std::pair<std::size_t, std::size_t>{2, 5}));
+  f.t0_ms = 100, f.t1_ms = 200;
+  EXPECT_EQ(gaze::window_samples(ds.recordings[0], f), (std::pair<std::size_t, std::size_t>{10, 10}));
+  f.t0_ms = 0, f.t1_ms = INFINITY;
+  EXPECT_EQ(gaze::window_samples(ds.recordings[0], f), (std::pair<std::size_t, std::size_t>{0, 10}));
+  f.t0_ms = -1;
+  EXPECT_THROW(gaze::select_recordings(ds, f), Error);
 }
 
 }  // namespace

@@ -174,9 +174,9 @@ Router make_router(App& app) {
   // under the shared gaze filters; stimulus images.
   r.add("GET", "/api/v1/gaze", bind(list_gaze));  // 200
   r.add("POST", "/api/v1/gaze", bind(create_gaze), upload(limits::kMaxGazeUploadBytes, "gaze upload"))
-      .checked_first(check(create_gaze_check));                                             // 202 400 409 413
-  r.add("GET", "/api/v1/gaze/{gaze}", bind(get_gaze));                                     // 200 404
-  r.add("DELETE", "/api/v1/gaze/{gaze}", bind(delete_gaze));                               // 204 403 404
+      .checked_first(check(create_gaze_check));                                           // 202 400 409 413
+  r.add("GET", "/api/v1/gaze/{gaze}", bind(get_gaze));                                    // 200 404
+  r.add("DELETE", "/api/v1/gaze/{gaze}", bind(delete_gaze));                              // 204 403 404
   r.add("GET", "/api/v1/gaze/{gaze}/events", bind(gaze_events)).on(Lane::compute);        // 200 400 404 413
   r.add("GET", "/api/v1/gaze/{gaze}/scanpaths", bind(gaze_scanpaths)).on(Lane::compute);  // 200 400 404 413
   r.add("PUT", "/api/v1/gaze/{gaze}/stimulus", bind(put_gaze_stimulus),
