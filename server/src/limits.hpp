@@ -222,4 +222,10 @@ inline constexpr std::uint64_t kMaxGazeStimulusPixels = 50'000'000;
 /// Gaze datasets the server stores; one more is refused (409).
 inline constexpr std::size_t kMaxStoredGazeDatasets = 1000;
 
+// --- gaze views (routes/gaze_views.cpp) ---------------------------------------------------------------
+/// Most samples (all selected recordings together) one gaze view reads: a stimulus-space tile or legend
+/// bins them and sorts their pixel keys for the zoom's shared span, AOI and bundle requests detect events
+/// in them. More is 413 (narrow the filters). ~1 s of tile work on this machine at the limit.
+inline constexpr std::uint64_t kMaxGazeViewSamples = 20'000'000;
+
 }  // namespace trailscope::limits

@@ -1059,6 +1059,22 @@ int main(int argc, char** argv) {
       for (const json* r : find("gaze_events"))
         body << "| " << str(r, "method") << " | " << str(r, "recordings") << " | " << grouped(r, "samples")
              << " | " << ms(r, "ms_p50") << " ms | " << grouped(r, "samples_per_s_p50") << " |\n";
+      if (!find("gaze_views").empty()) {  // gaze_views_bench
+        body << "\nGaze views (`gaze_views_bench`, the 4 Lund recordings of the Europe image, one core): a "
+                "stimulus-space density tile of every valid sample (binning, the zoom's exact span, shading, "
+                "PNG) "
+                "and an AOI query (I-VT events, then 6 rectangles under a 64-vertex polygon):\n\n"
+                "| view | input | time p50 |\n|---|---|---|\n";
+        for (const json* r : find("gaze_views")) {
+          if (str(r, "op") == "tile")
+            body << "| tile 1/0/0, kernel " << str(r, "kernel") << " px | " << grouped(r, "points")
+                 << " samples | " << ms(r, "ms_p50") << " ms |\n";
+          else
+            body << "| AOI query (" << str(r, "aois") << " AOIs) | " << grouped(r, "samples") << " samples, "
+                 << str(r, "fixations") << " fixations | " << ms(r, "ms_p50") << " ms (AOI measures alone "
+                 << ms(r, "aoi_only_ms_p50") << " ms) |\n";
+        }
+      }
       const auto kappa = [&](const std::map<std::string, std::string>& w) {
         const json* r = find1("gaze_kappa", w);
         return r && (*r)["kappa"].is_number() ? dbl(r, "kappa") : NAN;

@@ -278,6 +278,9 @@ GAZE_REPS=5
 [ "${BENCH_QUICK:-0}" = 1 ] && GAZE_REPS=2
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target gaze_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
 run "$B/gaze_bench" --gaze-dir "${BENCH_GAZE_DIR:-$ROOT/../shared/data/gaze}" --reps "$GAZE_REPS"
+say "5e'. gaze views: a stimulus-space density tile and an AOI query on the Lund data"
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target gaze_views_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/gaze_views_bench" --gaze-dir "${BENCH_GAZE_DIR:-$ROOT/../shared/data/gaze}" --reps "$((GAZE_REPS * 2))"
 say "5f. flow map of the Europe SO6 day end to end (sector fields, evenly spaced streamlines, CUBu, PNG)"
 FLOW_REPS=5
 [ "${BENCH_QUICK:-0}" = 1 ] && FLOW_REPS=2

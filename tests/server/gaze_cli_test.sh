@@ -133,4 +133,95 @@ check "delete again exit" 2 $?
 contains "delete again message" "gaze dataset 'whole' does not exist" "$TMP/err"
 "$BIN" gaze list --data-dir "$DATA" > "$TMP/out"
 contains "list table" "mono: $(grep -c '^START' "$MONO") recording(s), $(grep -c '^[0-9]' "$MONO") samples, eyelink_asc" "$TMP/out"
+# The views (gaze tile|aoi|bundle) on a Lund recording of the Europe image, checked against sums made here
+# from the raw TSV (time_us, pupil, pupil, x_px, y_px, ...; x = y = 0 is a lost sample).
+LUND=$GAZE/andersson2017_lund/tsv/UH29_img_Europe.tsv
+GEO="--width-px 1024 --height-px 768 --width-cm 38 --height-cm 30 --distance-cm 67"
+for v in tile aoi bundle; do
+  "$BIN" gaze $v --help > "$TMP/help" 2>&1
+  check "gaze $v --help exit" 0 $?
+done
+"$BIN" gaze tile --help > "$TMP/help" 2>&1
+contains "tile --help explains the grid" "2^z x 2^z tiles" "$TMP/help"
+"$BIN" gaze aoi --help > "$TMP/help" 2>&1
+contains "aoi --help states the overlap rule" "first AOI" "$TMP/help"
+"$BIN" gaze bundle --help > "$TMP/help" 2>&1
+contains "bundle --help lists the bundling flags" "--iterations" "$TMP/help"
+"$BIN" gaze tile "$LUND" $GEO -o "$TMP/t.png" --z 0 --x 0 --y 0 --how linear --json --quiet > "$TMP/tile.json"
+check "tile exit" 0 $?
+check "tile is a PNG" "89504e47" "$(head -c 4 "$TMP/t.png" | od -An -tx1 | tr -d ' \n')"
+check "tile points = valid samples" "$(awk 'NR > 1 && !($4 == 0 && $5 == 0)' "$LUND" | wc -l)" \
+  "$(json 'd["points"]' < "$TMP/tile.json")"
+check "tile legend top = the fullest 4 px cell" "$(python3 - "$LUND" <<'PY'
+import sys, collections
+c = collections.Counter()
+for line in list(open(sys.argv[1]))[1:]:
+    f = line.split(); x, y = float(f[3]), float(f[4])
+    if not (x == 0 and y == 0) and 0 <= x < 1024 and 0 <= y < 768: c[(int(x // 4), int(y // 4))] += 1
+print(float(max(c.values())))
+PY
+)" "$(json 'd["legend"]["hi"]' < "$TMP/tile.json")"
+"$BIN" gaze tile "$LUND" $GEO -o "$TMP/f.png" --z 1 --x 1 --y 0 --what fixations --kernel-radius 4 --quiet > "$TMP/tile.txt"
+check "fixation tile exit" 0 $?
+contains "tile text" "tile 1/1/0 of a 1024x768 px stimulus" "$TMP/tile.txt"
+
+# AOIs: the fixations of `gaze events`, their centroids computed here from the samples, counted per AOI.
+"$BIN" gaze events "$LUND" $GEO --json --quiet > "$TMP/lev.json"
+"$BIN" gaze aoi "$LUND" $GEO --aoi left:0,0,512,768 --aoi 'tri:512,0,1024,0,1024,768' --json --quiet > "$TMP/aoi.json"
+check "aoi exit" 0 $?
+python3 - "$LUND" "$TMP/lev.json" > "$TMP/aoi_want" <<'PY'
+import sys, json
+rows = [l.split() for l in list(open(sys.argv[1]))[1:]]
+t = [float(r[0]) / 1000 for r in rows]
+ev = json.load(open(sys.argv[2]))["files"][0]["recordings"][0]["events"]
+fix = [e for e in ev if e["type"] == "fixation"]
+left = tri = out = 0
+for e in fix:
+    pts = [(float(r[3]), float(r[4])) for r, tt in zip(rows, t) if e["t_start_ms"] <= tt <= e["t_end_ms"]]
+    x = sum(p[0] for p in pts) / len(pts); y = sum(p[1] for p in pts) / len(pts)
+    if 0 <= x <= 512 and 0 <= y <= 768: left += 1
+    elif x <= 1024 and y >= 0 and y <= 1.5 * (x - 512): tri += 1
+    else: out += 1
+print(len(fix), left, tri, out)
+PY
+check "aoi counts (fixations left tri outside)" "$(cat "$TMP/aoi_want")" \
+  "$(json 'd["fixations"], d["aois"][0]["fixations"], d["aois"][1]["fixations"], d["outside"]' < "$TMP/aoi.json" | tr -d '(),')"
+check "aoi transitions add up" \
+  "$(json 'd["aois"][0]["fixations"] + d["aois"][1]["fixations"] - 1' < "$TMP/aoi.json")" \
+  "$(json 'sum(sum(r) for r in d["transitions"]["counts"])' < "$TMP/aoi.json")"
+echo '{"aois": [{"name": "all", "rect": [0, 0, 1024, 768]}]}' > "$TMP/aois.json"
+"$BIN" gaze aoi "$LUND" $GEO --aoi-file "$TMP/aois.json" --quiet > "$TMP/aoi.txt"
+check "aoi file exit" 0 $?
+contains "aoi table" "transitions (row: from, column: to)" "$TMP/aoi.txt"
+
+# Saccade bundling: every saccade of `gaze events` is one bundled line.
+"$BIN" gaze bundle "$LUND" $GEO -o "$TMP/b.png" --size 128 --iterations 4 --width 256 --backend cpu --json --quiet > "$TMP/b.json"
+check "bundle exit" 0 $?
+check "bundle saccades" "$(json 'sum(e["type"] == "saccade" for e in d["files"][0]["recordings"][0]["events"])' < "$TMP/lev.json")" \
+  "$(json 'd["source"]["saccades"]' < "$TMP/b.json")"
+check "bundle units" "plane" "$(json 'd["units"]' < "$TMP/b.json")"
+check "bundle image is a PNG" "89504e47" "$(head -c 4 "$TMP/b.png" | od -An -tx1 | tr -d ' \n')"
+
+# Bad input of the views.
+"$BIN" gaze tile "$LUND" $GEO -o "$TMP/x.png" --z 0 --x 5 --quiet > /dev/null 2> "$TMP/err"
+check "tile bad x exit" 2 $?
+contains "tile bad x message" "tile column 5 is outside 0..0 at zoom 0" "$TMP/err"
+"$BIN" gaze tile "$LUND" -o "$TMP/x.png" --what pixels --quiet > /dev/null 2> "$TMP/err"
+check "tile bad what exit" 2 $?
+contains "tile bad what message" "'pixels' is not samples or fixations" "$TMP/err"
+"$BIN" gaze tile "$LUND" -o "$TMP/x.png" --quiet > /dev/null 2> "$TMP/err"
+check "tile no size exit" 2 $?
+contains "tile no size message" "recording 0 gives no screen size in px (width_px, height_px)" "$TMP/err"
+"$BIN" gaze aoi "$LUND" $GEO --quiet > /dev/null 2> "$TMP/err"
+check "aoi none exit" 2 $?
+contains "aoi none message" "give at least one --aoi or an --aoi-file" "$TMP/err"
+"$BIN" gaze aoi "$LUND" $GEO --aoi a:1,2,3 --quiet > /dev/null 2> "$TMP/err"
+check "aoi bad spec exit" 2 $?
+contains "aoi bad spec message" "4 numbers (a rectangle) or 3 or more x,y pairs (a polygon)" "$TMP/err"
+"$BIN" gaze aoi "$LUND" $GEO --aoi a:0,0,1,1 --aoi a:0,0,2,2 --quiet > /dev/null 2> "$TMP/err"
+check "aoi twice exit" 2 $?
+contains "aoi twice message" "AOI 1 (a): name used twice" "$TMP/err"
+"$BIN" gaze bundle "$LUND" $GEO -o "$TMP/x.png" --t0-ms 100000000 --quiet > /dev/null 2> "$TMP/err"
+check "bundle empty exit" 2 $?
+contains "bundle empty message" "no saccade to bundle in the selected recordings" "$TMP/err"
 finish

@@ -232,6 +232,10 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxGazeStimulusBytes", double(L::kMaxGazeStimulusBytes)},
       {"kMaxGazeStimulusPixels", double(L::kMaxGazeStimulusPixels)},
       {"kMaxStoredGazeDatasets", double(L::kMaxStoredGazeDatasets)},
+      // Gaze views (compute gazeview/, routes/gaze_views.cpp).
+      {"kMaxGazeAois", double(L::kMaxGazeAois)},
+      {"kMaxAoiVertices", double(L::kMaxAoiVertices)},
+      {"kMaxGazeViewSamples", double(L::kMaxGazeViewSamples)},
   };
   for (const auto& [name, value] : actual) {
     ASSERT_TRUE(quoted.count(name)) << name << " is missing from x-limits";

@@ -24,7 +24,7 @@ void add_compare(CLI::App& app);
 void add_congestion(CLI::App& app);
 /// `trailscope token create|list|revoke` (cli/token.cpp).
 void add_token(CLI::App& app);
-/// `trailscope gaze ingest|events` (cli/gaze.cpp).
+/// `trailscope gaze ingest|events|tile|aoi|bundle` (cli/gaze.cpp).
 void add_gaze(CLI::App& app);
 /// `trailscope flow` (cli/flow.cpp): the flow map of a dataset's traffic or of an uploaded field.
 void add_flow(CLI::App& app);

@@ -120,4 +120,12 @@ Response gaze_scanpaths(App& app, const Request& req, const PathParams& p);
 Response put_gaze_stimulus(App& app, const Request& req, const PathParams& p);
 Response get_gaze_stimulus(App& app, const Request& req, const PathParams& p);
 
+/// The views of a stored gaze dataset (routes/gaze_views.cpp, compute gazeview/): density tiles in stimulus
+/// pixel space and their legend, AOI measures, saccade bundling (a job; the result is a bundle of the
+/// bundle store).
+Response gaze_tile(App& app, const Request& req, const PathParams& p);
+Response gaze_tile_legend(App& app, const Request& req, const PathParams& p);
+Response gaze_aoi(App& app, const Request& req, const PathParams& p);
+Response gaze_bundle(App& app, const Request& req, const PathParams& p);
+
 }  // namespace trailscope::server::handlers

@@ -173,6 +173,11 @@ inline constexpr std::size_t kMaxGazeSamples = 50'000'000;
 inline constexpr std::size_t kMaxGazeRecordings = 100'000;
 /// Largest window (samples) of the I-DT dispersion test and of the adaptive threshold's noise estimate.
 inline constexpr std::size_t kMaxGazeWindowSamples = 100'000;
+// --- gaze views (gazeview/): AOIs, stimulus-space tiles, saccade bundling -----------------------------
+/// Most areas of interest in one AOI query (the transition matrix is their square).
+inline constexpr std::size_t kMaxGazeAois = 256;
+/// Most vertices of all AOIs of one query together, a rectangle counting 4 (a fixation meets them all).
+inline constexpr std::size_t kMaxAoiVertices = 4096;
 // --- flow maps (flow/): sector velocity fields, evenly spaced streamlines, their bundling -----------
 /// Most cells along either side of a flow field grid (traffic fields and uploaded fields alike).
 inline constexpr int kMaxFlowGridCells = 1024;
