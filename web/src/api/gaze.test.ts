@@ -57,6 +57,14 @@ describe('gaze API calls', () => {
     expect(JSON.parse(String(calls[0]!.init.body))).toEqual({ aois: [{ name: 'a', rect: [0, 0, 10, 10] }], stimulus: 'S', method: 'idt' });
   });
 
+  it('bundling sends the filters as fields and the bundling parameters under params', async () => {
+    const calls = stubFetch(202, { job: { id: 'j1' }, bundle: 'b1' });
+    await gazeApi.startBundle('g', { stimulus: 'S', t0_ms: 0 });
+    expect(JSON.parse(String(calls[0]!.init.body))).toEqual({ stimulus: 'S', t0_ms: 0 });
+    await gazeApi.startBundle('g', { stimulus: 'S' }, { iterations: 10 });
+    expect(JSON.parse(String(calls[1]!.init.body))).toEqual({ stimulus: 'S', params: { iterations: 10 } });
+  });
+
   it('DELETE answers 204, errors carry the server\'s body', async () => {
     const calls = stubFetch(204, null);
     await expect(gazeApi.remove('g')).resolves.toBeUndefined();

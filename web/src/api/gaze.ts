@@ -129,12 +129,17 @@ export const gazeApi = {
     return request<DensityLegendAnswer>(withQuery(`${gazePath(id)}/tiles/legend`, q), { signal });
   },
 
-  /** Starts bundling the saccades of one stimulus (a job); the bundle is read at /bundles/{bundle}. */
-  startBundle(id: string, f: GazeFilters, params: Record<string, string> = {}) {
+  /**
+   * Starts bundling the selected saccades in stimulus pixels (a job); `params` as POST /bundles takes them
+   * (left out: the defaults). The bundle is then read at /bundles/{bundle} (units "plane": stimulus px).
+   */
+  startBundle(id: string, f: GazeFilters, params: Record<string, string | number> = {}) {
+    const body: Record<string, unknown> = gazeBodyFilters(f);
+    if (Object.keys(params).length) body.params = params;
     return request<BundleAccepted>(`${gazePath(id)}/bundle`, {
       method: 'POST',
       headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify({ ...gazeBodyFilters(f), ...params }),
+      body: JSON.stringify(body),
     });
   },
 };

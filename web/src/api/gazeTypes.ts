@@ -136,7 +136,11 @@ export interface AoiAnswer {
   aois: AoiStats[];
   /** counts[i][j]: consecutive fixations going from AOI names[i] to names[j]. */
   transitions: { names: string[]; counts: number[][] };
+  /** Recordings and fixations selected by the filters; `outside`: of those fixations, in no AOI. */
   recordings: number;
+  fixations?: number;
+  outside?: number;
+  method?: GazeMethod;
 }
 
 /** What the stimulus-space density tiles count. */

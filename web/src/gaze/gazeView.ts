@@ -618,7 +618,8 @@ export class GazeView {
     try {
       const a: AoiAnswer = await gazeApi.aoi(d.id, this.route.aois, this.filters(), ctrl.signal);
       this.aoiPanel.show(a);
-      this.aoiPanel.setStatus(`${a.aois.length} area${a.aois.length === 1 ? '' : 's'} over ${a.recordings} recording${a.recordings === 1 ? '' : 's'} (${this.route.method})`, 'ready');
+      const outside = a.fixations !== undefined && a.outside !== undefined ? `; ${formatInt(a.outside)} of ${formatInt(a.fixations)} fixations in no AOI` : '';
+      this.aoiPanel.setStatus(`${a.aois.length} area${a.aois.length === 1 ? '' : 's'} over ${a.recordings} recording${a.recordings === 1 ? '' : 's'} (${this.route.method})${outside}`, 'ready');
     } catch (e) {
       if (isAbort(e)) return;
       this.aoiPanel.show(null);
