@@ -218,6 +218,13 @@ await test('an AOI drawn with the mouse: the table holds the API\'s numbers and 
   assertEqual(row.fixations, n, 'fixations inside, counted here');
   assert(Math.abs(row.dwell_ms - dwell) < 1e-6 * Math.max(1, dwell), `dwell inside, summed here (${row.dwell_ms} vs ${dwell})`);
   assertEqual(row.visitors, inside.filter((l) => l.length > 0).length, 'visitors, counted here');
+  // The first fixation in it, after its recording's first sample (one recording: median = min).
+  const detail = await getJson(`/api/v1/gaze/${NAME}`);
+  const recs = Array.isArray(detail.recordings) ? detail.recordings : detail.recording_list;
+  const k = inside.findIndex((l) => l.length > 0);
+  const first = inside[k][0].t_start_ms - recs.find((r) => r.index === sp.scanpaths[k].recording).t0_ms;
+  assert(Math.abs(row.first_fixation_ms.min - first) < 1e-6, `first fixation, found here (${row.first_fixation_ms.min} vs ${first})`);
+  assert(Math.abs(Number(await cell('first_min')) - first) < 1e-6, 'table: first fixation (min)');
   aoiHash = await page.evaluate(() => window.location.hash);
   await page.screenshot({ path: path.join(ARTIFACTS, 'gaze-aoi.png') });
 });
@@ -238,6 +245,20 @@ await test('a second AOI: the transition matrix is the API\'s', async () => {
   const want = [];
   api.transitions.names.forEach((a, i) => api.transitions.names.forEach((b, j) => want.push(`${a}>${b}=${api.transitions.counts[i][j]}`)));
   assertEqual(shown.join(' '), want.join(' '), 'the matrix cells');
+  // Independent: each recording's fixations labelled by the AOI holding them (none skipped, breaking
+  // nothing), consecutive labels counted, the diagonal included.
+  const sp = await getJson(`/api/v1/gaze/${NAME}/scanpaths?${q({ stimulus: STIMULUS })}`);
+  const brute = parsed.map(() => parsed.map(() => 0));
+  for (const p of sp.scanpaths) {
+    const labels = p.fixations
+      .filter((f) => f.x !== null && f.y !== null)
+      .map((f) => parsed.findIndex((a) => f.x >= a.rect[0] && f.x <= a.rect[2] && f.y >= a.rect[1] && f.y <= a.rect[3]))
+      .filter((i) => i >= 0);
+    for (let i = 1; i < labels.length; i++) brute[labels[i - 1]][labels[i]]++;
+  }
+  const order = api.transitions.names.map((n) => parsed.findIndex((a) => a.name === n));
+  assertEqual(JSON.stringify(api.transitions.counts), JSON.stringify(order.map((i) => order.map((j) => brute[i][j]))), 'transitions counted here');
+  assert(brute.flat().some((v) => v > 0), 'some transitions');
   aoiHash = await page.evaluate(() => window.location.hash);
   await page.screenshot({ path: path.join(ARTIFACTS, 'gaze-aoi-matrix.png') });
 });
