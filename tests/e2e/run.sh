@@ -7,10 +7,12 @@
 #   5. a second server on its own data dir with `--demo` (the synthetic tracker videos) and the tracker
 #      dashboard test (tracker.test.mjs), 6. a third server on its own empty data dir and the runs
 #      dashboard test (runs.test.mjs: it makes short synthetic videos and a 200-run sweep through the API),
-#   7. the servers are always stopped.
+#   7. a fourth server on its own empty data dir and the gaze dashboard test (gaze.test.mjs: it uploads a
+#      Lund 2013 recording and its stimulus image through the page),
+#   8. the servers are always stopped.
 # Environment: TRAILSCOPE_BIN (default build/server/trailscope), TRAILSCOPE_SHARED (default ../shared),
 #              CHROMIUM (default /usr/bin/chromium), E2E_KEEP=1 keeps the temp dir,
-#              E2E_ONLY=dashboard|animation|congestion|flow|tracker|runs runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
+#              E2E_ONLY=dashboard|animation|congestion|flow|tracker|runs|gaze runs one of the tests; RUNS_SAMPLES, RUNS_FRAMES
 #              and RUNS_SCENARIOS size the runs test's sweep (default 100 points × standard, fast-motion
 #              videos of 64 frames).
 # Prints "N passed, M failed" last; exits non-zero on any failure.
@@ -24,7 +26,7 @@ DATA="$SHARED/data/flights/traffic_europe_20180101_m3.so6.gz"
 
 die() { echo "run.sh: $*" >&2; echo "0 passed, 1 failed"; exit 1; }
 [ -x "$BIN" ] || die "$BIN is missing: build the server first (or set TRAILSCOPE_BIN)"
-[ "${E2E_ONLY:-}" = tracker ] || [ "${E2E_ONLY:-}" = runs ] || [ -f "$DATA" ] || die "$DATA is missing (set TRAILSCOPE_SHARED to the shared folder)"
+[ "${E2E_ONLY:-}" = tracker ] || [ "${E2E_ONLY:-}" = runs ] || [ "${E2E_ONLY:-}" = gaze ] || [ -f "$DATA" ] || die "$DATA is missing (set TRAILSCOPE_SHARED to the shared folder)"
 
 # The front-end: rebuild when web/dist is missing or older than its sources.
 if [ ! -f web/dist/index.html ] || [ -n "$(find web/src web/index.html web/vite.config.ts -newer web/dist/index.html -print -quit)" ]; then
@@ -127,5 +129,11 @@ if [ -z "$ONLY" ] || [ "$ONLY" = runs ]; then
   # the only runs there.
   start_server runs "$TMP/runs-data"
   run_test runs.test.mjs
+fi
+
+if [ -z "$ONLY" ] || [ "$ONLY" = gaze ]; then
+  # Its own server and empty data dir: the test uploads its gaze file, so it is the only one listed.
+  start_server gaze "$TMP/gaze-data"
+  run_test gaze.test.mjs TRAILSCOPE_SHARED="$SHARED"
 fi
 exit "$status"

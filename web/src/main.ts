@@ -1,16 +1,19 @@
 import './styles.css';
 import { FlightsView } from './flights/flightsView';
+import { GazeView } from './gaze/gazeView';
 import { byId, mount } from './lib/dom';
 import { dashboardOf } from './route';
 import { TrackerView } from './tracker/trackerView';
 import { RunsView } from './runs/runsView';
 import { SessionUi } from './session/sessionUi';
 
-// Three dashboards behind one top bar: the flight map dashboard (flights/, any hash), the tracker
-// (tracker/, #tracker…) and the runs dashboard (runs/, #runs…). Each is built the first time it is shown.
+// Four dashboards behind one top bar: the flight map dashboard (flights/, any hash), the tracker
+// (tracker/, #tracker…), the runs dashboard (runs/, #runs…) and the gaze dashboard (gaze/, #gaze…). Each
+// is built the first time it is shown.
 let flights: FlightsView | null = null;
 let tracker: TrackerView | null = null;
 let runs: RunsView | null = null;
+let gaze: GazeView | null = null;
 
 function route() {
   const view = dashboardOf(window.location.hash);
@@ -26,6 +29,9 @@ function route() {
     } else if (view === 'runs') {
       runs ??= new RunsView(byId('runs-root'));
       void runs.activate(window.location.hash);
+    } else if (view === 'gaze') {
+      gaze ??= new GazeView(byId('gaze-root'));
+      void gaze.activate(window.location.hash);
     } else if (flights) {
       flights.show();
     } else {

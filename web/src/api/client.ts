@@ -168,15 +168,23 @@ export function uploadDataset(
   file: File,
   opts: { name: string; format?: DatasetFormat; onProgress?: (fraction: number) => void },
 ): UploadHandle {
-  const xhr = new XMLHttpRequest();
   const q = new URLSearchParams({ name: opts.name });
   if (opts.format) q.set('format', opts.format);
+  return uploadFile(`/api/v1/datasets?${q.toString()}`, file, opts.onProgress);
+}
+
+/**
+ * POSTs `file` as the raw body to `url`, which answers 202 `{"job": …}` (an ingest job); `onProgress` gets
+ * the fraction of the body sent (XMLHttpRequest: fetch reports no upload progress).
+ */
+export function uploadFile(url: string, file: Blob, onProgress?: (fraction: number) => void): UploadHandle {
+  const xhr = new XMLHttpRequest();
   const done = new Promise<Job>((resolve, reject) => {
-    xhr.open('POST', `/api/v1/datasets?${q.toString()}`);
+    xhr.open('POST', url);
     xhr.setRequestHeader('Content-Type', 'application/octet-stream');
     xhr.setRequestHeader('Accept', 'application/json');
     xhr.upload.onprogress = (e) => {
-      if (e.lengthComputable && opts.onProgress) opts.onProgress(e.loaded / e.total);
+      if (e.lengthComputable && onProgress) onProgress(e.loaded / e.total);
     };
     xhr.onload = () => {
       if (xhr.status === 401) notifyUnauthorized();
