@@ -166,6 +166,13 @@ Router test_router(Probe& probe) {
   r.add("POST", "/echo", [](const Request& req, const PathParams&) {
     return Response::json(200, {{"echo", nlohmann::json::parse(req.body)}});
   });
+  // An in-memory body of image types instead of JSON (as PUT /gaze/{gaze}/stimulus takes).
+  r.add(
+      "PUT", "/image",
+      [](const Request& req, const PathParams&) {
+        return Response::json(200, {{"bytes", req.body.size()}});
+      },
+      BodyRule{1u << 20, false, "image", {"image/png", "image/jpeg"}});
   // An upload with a precheck: `name` required, "taken" is taken, no other parameter.
   r.add(
        "POST", "/upload",
@@ -385,6 +392,20 @@ TEST_F(NetTest, ForeignOriginsMayNotChangeState) {
   EXPECT_EQ(text.json(), error_body("unsupported_format", "content-type",
                                     "Content-Type must be application/json, got 'text/plain'"));
   EXPECT_EQ(post("", "application/x-www-form-urlencoded").status, 415);
+  // A route that names its media types takes those and nothing else (neither JSON nor text/plain).
+  const auto put_image = [&](const std::string& type) {
+    return exchange("PUT /image HTTP/1.1\r\nHost: " + host() + "\r\nContent-Type: " + type +
+                    "\r\nContent-Length: 4\r\nConnection: close\r\n\r\n\x89PNG");
+  };
+  const Reply png = put_image("image/png");
+  EXPECT_EQ(png.status, 200);
+  EXPECT_EQ(png.json(), nlohmann::json({{"bytes", 4}}));
+  EXPECT_EQ(put_image("IMAGE/JPEG; q=1").status, 200);
+  const Reply not_image = put_image("text/plain");
+  EXPECT_EQ(not_image.status, 415);
+  EXPECT_EQ(not_image.json(), error_body("unsupported_format", "content-type",
+                                         "Content-Type must be image/png or image/jpeg, got 'text/plain'"));
+  EXPECT_EQ(put_image("application/json").status, 415);
   // Reads are not checked: a page may embed a tile.
   EXPECT_EQ(get("/ping", "Origin: http://attacker.example\r\n").status, 200);
 }

@@ -1,5 +1,6 @@
 #include "net/http_server.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <optional>
 
@@ -275,6 +276,21 @@ bool is_json_type(const std::string& content_type) {
   return t == "application/json" || (t.size() > 5 && t.compare(t.size() - 5, 5, "+json") == 0);
 }
 
+// Whether an in-memory body of this Content-Type may be read for `rule` (BodyRule::media_types).
+bool accepts_media_type(const BodyRule& rule, const std::string& content_type) {
+  if (rule.media_types.empty()) return is_json_type(content_type);
+  const std::string t = media_type(content_type);
+  return std::find(rule.media_types.begin(), rule.media_types.end(), t) != rule.media_types.end();
+}
+
+std::string accepted_media_types(const BodyRule& rule) {
+  if (rule.media_types.empty()) return "application/json";
+  std::string s;
+  for (std::size_t i = 0; i < rule.media_types.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == rule.media_types.size() ? " or " : ", ") + rule.media_types[i];
+  return s;
+}
+
 // Reads the body of `parser` (header already read) with the total deadline `total` and the minimum rate:
 // after the grace period the body must have arrived at min_body_bytes_per_second on average. Throws
 // Error(request_timeout) when it does not, Error(payload_too_large) over the body limit, and
@@ -461,9 +477,10 @@ net::awaitable<void> session(beast::tcp_stream stream, Server& S, ConnectionCoun
         if (head.content_length() && *head.content_length() > rule.limit)
           throw Error(Error::Kind::payload_too_large, "body",
                       rule.name + " exceeds the limit of " + size_text(rule.limit));
-        if (route && has_body && !rule.to_file && !is_json_type(req.header("content-type")))
+        if (route && has_body && !rule.to_file && !accepts_media_type(rule, req.header("content-type")))
           throw Error(Error::Kind::unsupported_format, "content-type",
-                      "Content-Type must be application/json, got '" + req.header("content-type") + "'");
+                      "Content-Type must be " + accepted_media_types(rule) + ", got '" +
+                          req.header("content-type") + "'");
       }
     } catch (const std::exception& e) {
       refusal = error_response(e);

@@ -17,10 +17,15 @@ namespace trailscope::server {
 /// How a route's request body is read: in memory, or streamed to a file (Request::body_file) so that
 /// memory stays flat, with a size limit (bytes) and the name a 413 gives it ("<name> exceeds the limit of
 /// 2 GiB"). A streamed body has limits::kUploadTimeoutSeconds to arrive.
+/// An in-memory body must be JSON (application/json or +json) unless `media_types` names the types the
+/// route takes instead (e.g. image/png, image/jpeg): either way a cross-site form can send none of them
+/// without a CORS preflight (text/plain, multipart/form-data and form-urlencoded are never accepted in
+/// memory), which is what keeps state-changing routes safe from simple cross-site requests.
 struct BodyRule {
   std::uint64_t limit = limits::kMaxRequestBodyBytes;
   bool to_file = false;
   std::string name = "request body";
+  std::vector<std::string> media_types = {};  ///< lower-case types taken instead of JSON; empty: JSON
 };
 
 /// Where a route's handler runs. `io`: on the network thread that read the request (cheap lookups and cached

@@ -180,8 +180,11 @@ Router make_router(App& app) {
   r.add("GET", "/api/v1/gaze/{gaze}/events", bind(gaze_events)).on(Lane::compute);        // 200 400 404 413
   r.add("GET", "/api/v1/gaze/{gaze}/scanpaths", bind(gaze_scanpaths)).on(Lane::compute);  // 200 400 404 413
   r.add("PUT", "/api/v1/gaze/{gaze}/stimulus", bind(put_gaze_stimulus),
-        BodyRule{limits::kMaxGazeStimulusBytes, false, "stimulus image"});  // 200 400 403 404 413 415 422
-  r.add("GET", "/api/v1/gaze/{gaze}/stimulus", bind(get_gaze_stimulus));    // 200 400 404
+        BodyRule{limits::kMaxGazeStimulusBytes,
+                 false,
+                 "stimulus image",
+                 {"image/png", "image/jpeg"}});                           // 200 400 403 404 413 415 422
+  r.add("GET", "/api/v1/gaze/{gaze}/stimulus", bind(get_gaze_stimulus));  // 200 400 404
   // Gaze views (routes/gaze_views.cpp): stimulus-space density tiles and their legend, AOI measures (a
   // query that changes nothing: reader), saccade bundling (a job whose result is a bundle of /bundles).
   r.add("GET", "/api/v1/gaze/{gaze}/tiles/legend", bind(gaze_tile_legend))
@@ -190,7 +193,7 @@ Router make_router(App& app) {
       .on(Lane::compute);  // 200 304 400 404 413 422
   r.add("POST", "/api/v1/gaze/{gaze}/aoi", bind(gaze_aoi))
       .needs(Role::reader)
-      .on(Lane::compute);                                                                 // 200 400 404 413 422
+      .on(Lane::compute);                                                            // 200 400 404 413 422
   r.add("POST", "/api/v1/gaze/{gaze}/bundle", bind(gaze_bundle)).on(Lane::compute);  // 202 400 404 413 422
   r.set_access(access_check(app.access));
   r.set_fallback(bind(static_file));
