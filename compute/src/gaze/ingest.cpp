@@ -241,7 +241,8 @@ void read_eyelink(std::string_view text, Ctx& c) {
     } else if (key == "MSG" && f.size() >= 3) {
       const std::string_view what = f[2];
       if ((what == "DISPLAY_COORDS" || what == "GAZE_COORDS") && f.size() >= 7) {
-        const double x0 = need_num(f[3], lines.number, what.data()), y0 = need_num(f[4], lines.number, "y0");
+        // (`what` views the line: it is not NUL-terminated, so it is never passed as a C string.)
+        const double x0 = need_num(f[3], lines.number, "x0"), y0 = need_num(f[4], lines.number, "y0");
         const double x1 = need_num(f[5], lines.number, "x1"), y1 = need_num(f[6], lines.number, "y1");
         // DISPLAY_COORDS 0 0 1023 767 (last pixel) and EyeLink I's 0 0 640 480 (size) both occur; the
         // inclusive form is the documented one, so a size that is odd after +1 means the exclusive form.
