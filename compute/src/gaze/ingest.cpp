@@ -785,6 +785,9 @@ void read_plain(std::string_view text, Ctx& c) {
     if (units == Units::px && x == 0 && y == 0) v = false;
     for (std::size_t k = 0; k < label_cols.size(); ++k) {
       const double lv = pos(label_cols[k].first, "label");
+      // Labels are event codes (gaze.hpp EventType): a value no int holds is damage, not a code.
+      if (std::isfinite(lv) && std::abs(lv) >= 2147483648.0)
+        damaged(lines.number, "label is out of range: " + shown(f[label_cols[k].first]));
       r.annotations[k].second.push_back(std::isfinite(lv) ? int(lv) : 0);
     }
     c.push(r, t, x, y, v);
