@@ -207,4 +207,11 @@ inline constexpr std::uint64_t kMinBodyBytesPerSecond = 4096;
 /// Largest request header (request line and fields, bytes); a larger one is refused with 431.
 inline constexpr std::size_t kMaxRequestHeaderBytes = 16u << 10;
 
+// --- flow-map tiles ----------------------------------------------------------------------------------
+/// Bytes of flow maps (streamlines and their bundles; store/flow_map_cache.hpp) kept for the flow tiles:
+/// a map is computed once per dataset, window and flow parameters and every tile is drawn from it. A map
+/// costs about 60 bytes per streamline point (the lines, their bundled and original copies, per-point
+/// values), so the largest a request may ask for (limits::kMaxFlowLinePoints) fits twice.
+inline constexpr std::size_t kFlowMapCacheBytes = 256u << 20;
+
 }  // namespace trailscope::limits
