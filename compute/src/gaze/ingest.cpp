@@ -621,6 +621,7 @@ void read_sgt(std::string_view text, Ctx& c) {
       else if (k == "#SCREEN_ORIGIN")
         bottom_left = f.size() >= 2 && trim(f[1]) == "BottomLeft";
       else if (k == "#DATAFORMAT") {
+        ix = iy = ilx = ily = irx = iry = -1;  // a later #DATAFORMAT replaces the columns of an earlier one
         for (std::size_t i = 1; i < f.size(); ++i) {
           const std::string_view n = trim(f[i]);
           const long j = long(i - 1);
@@ -669,7 +670,7 @@ void read_sgt(std::string_view text, Ctx& c) {
     };
     double x, y;
     bool v;
-    if (ix >= 0) {
+    if (ix >= 0 && iy >= 0) {
       double a, b;
       const bool va = pos(ix, a), vb = pos(iy, b);
       x = a, y = b, v = va && vb;
