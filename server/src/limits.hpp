@@ -228,4 +228,11 @@ inline constexpr std::size_t kMaxStoredGazeDatasets = 1000;
 /// in them. More is 413 (narrow the filters).
 inline constexpr std::uint64_t kMaxGazeViewSamples = 20'000'000;
 
+// --- flow-map tiles ----------------------------------------------------------------------------------
+/// Bytes of flow maps (streamlines and their bundles; store/flow_map_cache.hpp) kept for the flow tiles:
+/// a map is computed once per dataset, window and flow parameters and every tile is drawn from it. A map
+/// costs about 60 bytes per streamline point (the lines, their bundled and original copies, per-point
+/// values), so the largest a request may ask for (limits::kMaxFlowLinePoints) fits twice.
+inline constexpr std::size_t kFlowMapCacheBytes = 256u << 20;
+
 }  // namespace trailscope::limits

@@ -5,7 +5,8 @@
 # runs it first). Each seed is a small cut of a real file (a few records, edges or lines), so that the
 # fuzzer's mutations stay fast; nothing of the data is copied into the repository. Seeds that need
 # TrailScope's own writers (a depth-video pack, tracker logs) come from the fuzz_seeds program.
-# Harnesses with no shared file of their kind (OpenSky CSV, od_csv, the request and control messages)
+# Harnesses with no shared file of their kind (OpenSky CSV, od_csv, the request and control messages, the
+# uploaded flow field, the ClickHouse store URL)
 # start from the hand-written seeds committed in tests/fuzz/seeds/<harness>/ (run.sh adds them).
 set -euo pipefail
 build=${1:?usage: seeds.sh BUILD_DIR [SHARED]}
@@ -84,6 +85,32 @@ while IFS= read -r f; do
   n=$((n + 1))
   head -n 25 "$f" | seed mot_text "mot$n.txt"
 done < <(find "$data/tracker/mot" -name '*.txt' -path '*gt*' -o -name '*.txt' -path '*tracker_*' | sort)
+
+# Gaze files, every format of the shared gaze folder (gaze_ingest_fuzz.cpp): the header and 20 lines of
+# each, the first after the header and 20 from the middle (a line cut at 400 characters), behind the
+# harness's first byte: 35 = format detected, both eyes averaged, a 1920 x 1080 px screen given
+# (normalised Tobii coordinates need one); 17 = detected, left eye, no screen.
+python3 - "$data/gaze" "$out/gaze_ingest" <<'PY'
+import glob, os, re, sys
+src, out = sys.argv[1], sys.argv[2]
+os.makedirs(out, exist_ok=True)
+patterns = ['eyelinker_sr_research/mono250.asc', 'eyelinker_sr_research/bino250.asc',
+            'i2mc_tobii_tx300/participant1/1.txt', 'gazeparser_tests/*', 'sp_tool_test_data/*',
+            'andersson2017_lund/tsv/TL20_img_konijntjes.tsv', 'hooge2018_human_fixation_coding/ETdata/adult_*',
+            'pymovements_tests/*', 'pymovements_toy/trial_0_1.csv', 'saccades_luketudge/example.csv']
+for pat in patterns:
+    for f in sorted(glob.glob(os.path.join(src, pat)))[:4]:
+        lines = [l[:400].rstrip(b'\r\n') + b'\n' for l in open(f, 'rb')]
+        first = next((i for i, l in enumerate(lines) if re.match(rb'\s*-?[0-9]', l)), len(lines))
+        head = lines[:min(first, 300)]
+        name = os.path.relpath(f, src).replace('/', '_')
+        # The first sample lines, and some from the middle (where a recording that starts with the eye
+        # lost has valid samples).
+        for cut, body in (('', lines[:min(first, 300) + 20]), ('.mid', head + lines[len(lines) // 2:][:20])):
+            text = b''.join(body)
+            open(os.path.join(out, name + cut + '.35'), 'wb').write(bytes([35]) + text)
+            open(os.path.join(out, name + cut + '.17'), 'wb').write(bytes([17]) + text)
+PY
 
 # Depth video: three real depth frames (Open3D's RGB-D sample) cut to 16x12, as single PNGs and through
 # fuzz_seeds as a pack and a manifest; tracker logs in both encodings.

@@ -1,14 +1,17 @@
 // The flow routes (routes/flow.cpp) over the real compute path: the PNG and the JSON against
-// flow::flow_image called directly, the ETag, the uploaded field, and every error with its exact status,
-// kind, parameter and detail.
+// flow::flow_image called directly, the ETag, the uploaded field, the flow tiles (against the route's JSON
+// lines drawn independently, and the map computed once for all tiles), and every error with its exact
+// status, kind, parameter and detail.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
+#include <thread>
 
 #include "route_fixture.hpp"
 #include "trailscope/density/png.hpp"
 #include "trailscope/flow/render.hpp"
+#include "trailscope/geo/web_mercator.hpp"
 #include "trailscope/trails/trail_set_builder.hpp"
 
 namespace trailscope::server {
@@ -171,6 +174,128 @@ TEST_F(FlowRouteTest, UploadedFieldGoesThroughTheSamePath) {
              "unknown query parameter 'bbox'");
   // The body limit is the route's own.
   EXPECT_EQ(router.body_rule("POST", "/api/v1/flow").limit, limits::kMaxFlowFieldBytes);
+}
+
+// ---- tiles ------------------------------------------------------------------------------------------
+constexpr int kZ = 6, kTx = 32, kTy = 22;  // lon 0..5.6°, lat 45.1..48.9°: the three flows cross it
+std::string tile_path(int z = kZ, int x = kTx, int y = kTy) {
+  return "/api/v1/datasets/fl/flow/" + std::to_string(z) + "/" + std::to_string(x) + "/" + std::to_string(y) +
+         ".png";
+}
+
+TEST_F(FlowRouteTest, TileDrawsTheMapsLinesWhereTheJsonPutsThem) {
+  const std::map<std::string, std::string> q = {{"grid", "64"}, {"level", "2"}};
+  const Response r = get(tile_path(), q);
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(r.content_type, "image/png");
+  const density::Image img = density::decode_png(r.bytes());
+  ASSERT_EQ(img.width, 256);
+  // The same map and tile through the compute library.
+  flow::FlowRenderParams rp;
+  rp.level = 2;
+  const flow::FlowMap m = flow::flow_map(*trails, Query{}, small(), default_backend());
+  EXPECT_EQ(img.rgba, flow::render_flow_tile(m, geo::TileId{kZ, kTx, kTy}, 256, rp).rgba);
+  // Independently: the route's JSON lines (longitude/latitude, 6 digits) projected into the tile by the
+  // Web Mercator formulas. A drawn pixel lies within the widest line's reach (half width 1.5 px + 0.5 px
+  // of antialiasing) of a line; the middle of every segment inside the tile is drawn.
+  const Response js = get(kPath, {{"grid", "64"}, {"level", "2"}, {"format", "json"}});
+  ASSERT_EQ(js.status, 200) << js.body;
+  std::vector<std::vector<std::pair<double, double>>> lines;
+  const double scale = 256.0 * (1 << kZ);
+  const nlohmann::json lines_json = body(js).at("lines");
+  ASSERT_GT(lines_json.size(), 4u);
+  for (const auto& l : lines_json) {
+    auto& pts = lines.emplace_back();
+    for (const auto& p : l.at("points"))
+      pts.emplace_back(geo::lon_to_unit_x(p[0].get<double>()) * scale - 256.0 * kTx,
+                       geo::lat_to_unit_y(p[1].get<double>()) * scale - 256.0 * kTy);
+  }
+  const auto dist = [&](double x, double y) {
+    double best = 1e300;
+    for (const auto& pts : lines)
+      for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+        const auto [ax, ay] = pts[k];
+        const double dx = pts[k + 1].first - ax, dy = pts[k + 1].second - ay, len2 = dx * dx + dy * dy;
+        const double t = len2 > 0 ? std::clamp(((x - ax) * dx + (y - ay) * dy) / len2, 0.0, 1.0) : 0;
+        best = std::min(best, std::hypot(ax + t * dx - x, ay + t * dy - y));
+      }
+    return best;
+  };
+  std::size_t drawn = 0;
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 256; ++x)
+      if (img.pixel(x, y)[3] > 0) {
+        ++drawn;
+        ASSERT_LT(dist(x + 0.5, y + 0.5), 2.0 + 0.05) << "pixel " << x << "," << y;
+      }
+  EXPECT_GT(drawn, 500u);
+  std::size_t inside = 0;
+  for (const auto& pts : lines)
+    for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+      const double x = (pts[k].first + pts[k + 1].first) / 2, y = (pts[k].second + pts[k + 1].second) / 2;
+      if (x < 2 || y < 2 || x > 254 || y > 254) continue;
+      ++inside;
+      EXPECT_GT(img.pixel(int(x), int(y))[3], 0) << "segment middle " << x << "," << y;
+    }
+  EXPECT_GT(inside, 20u);
+  // A tile away from the traffic is transparent; level 0 draws nothing (the density tiles are that level).
+  const density::Image far = density::decode_png(get(tile_path(kZ, 10, 10), q).bytes());
+  EXPECT_TRUE(std::all_of(far.rgba.begin(), far.rgba.end(), [](std::uint8_t b) { return b == 0; }));
+  const density::Image l0 = density::decode_png(get(tile_path(), {{"grid", "64"}, {"level", "0"}}).bytes());
+  EXPECT_TRUE(std::all_of(l0.rgba.begin(), l0.rgba.end(), [](std::uint8_t b) { return b == 0; }));
+}
+
+TEST_F(FlowRouteTest, TilesShareOneMapPerWindowAndParameters) {
+  // A map view's tiles at once, at two levels and two sizes: one computation.
+  std::vector<std::thread> threads;
+  std::vector<int> status(8);
+  for (int i = 0; i < 8; ++i)
+    threads.emplace_back([&, i] {
+      status[i] = get(tile_path(kZ, kTx + i % 2, kTy + i / 2 % 2),
+                      {{"grid", "64"}, {"level", i < 4 ? "2" : "1.25"}, {"size", i % 4 == 3 ? "512" : "256"}})
+                      .status;
+    });
+  for (auto& t : threads) t.join();
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(status[i], 200) << i;
+  EXPECT_EQ(app->flow_maps.computed(), 1u);
+  EXPECT_EQ(app->flow_maps.entries(), 1u);
+  EXPECT_GT(app->flow_maps.bytes(), 0u);
+  // The ETag, and a 304 without drawing.
+  const Response r = get(tile_path(), {{"grid", "64"}});
+  const std::string etag = header(r, "ETag");
+  ASSERT_FALSE(etag.empty());
+  EXPECT_EQ(get(tile_path(), {{"grid", "64"}}, {{"if-none-match", etag}}).status, 304);
+  // Another window or another field parameter is another map; another level or line width is not.
+  EXPECT_EQ(get(tile_path(), {{"grid", "64"}, {"line_width", "3"}}).status, 200);
+  EXPECT_EQ(app->flow_maps.computed(), 1u);
+  EXPECT_EQ(get(tile_path(), {{"grid", "48"}}).status, 200);
+  EXPECT_EQ(get(tile_path(), {{"grid", "64"}, {"bbox", "-2,44,12,54"}}).status, 200);
+  EXPECT_EQ(app->flow_maps.computed(), 3u);
+  // Deleting the dataset drops its maps.
+  EXPECT_EQ(send("DELETE", "/api/v1/datasets/fl").status, 204);
+  EXPECT_EQ(app->flow_maps.entries(), 0u);
+}
+
+TEST_F(FlowRouteTest, TileErrorsNameTheParameter) {
+  expect_bad(get(tile_path(), {{"level", "3"}}), 400, "invalid_argument", "level", "level must be in [0, 2]");
+  expect_bad(get(tile_path(), {{"cell_px", "4"}}), 400, "invalid_argument", "cell_px",
+             "unknown query parameter 'cell_px'");
+  expect_bad(get(tile_path(), {{"format", "json"}}), 400, "invalid_argument", "format",
+             "unknown query parameter 'format'");
+  expect_bad(get(tile_path(), {{"size", "300"}}), 400, "invalid_argument", "size", "size must be 256 or 512");
+  expect_error(get(tile_path(23, 0, 0)), 400, "invalid_argument", "z");
+  expect_error(get(tile_path(3, 8, 0)), 400, "invalid_argument", "x");
+  expect_bad(get(tile_path(), {{"grid", "4"}}), 400, "invalid_argument", "grid",
+             "grid must be 8..1024 cells (limits::kMaxFlowGridCells)");
+  expect_bad(get(tile_path(), {{"callsign", "NOPE"}}), 422, "unprocessable", "query",
+             "no flight matches the query");
+  expect_bad(get("/api/v1/datasets/none/flow/1/0/0.png"), 404, "not_found", "dataset",
+             "dataset 'none' does not exist");
+  expect_error(get(tile_path(), {{"grid", "1024"}, {"d_sep", "0.5"}, {"step", "0.05"}, {"sectors", "16"}}),
+               413, "payload_too_large", "d_sep");
+  EXPECT_EQ(app->flow_maps.entries(), 0u) << "nothing cached for refused requests";
+  expect_no_server_errors({tile_path()}, {"level", "grid", "line_width", "size", "d_sep", "bundle.h"},
+                          garbage_values({"2", "1.5", "256"}), 4, 3, 7);
 }
 
 }  // namespace

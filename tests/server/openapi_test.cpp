@@ -175,6 +175,7 @@ TEST(OpenApi, QuotesEveryLimit) {
       {"kMaxFlowLinePoints", double(L::kMaxFlowLinePoints)},
       {"kMaxFlowImagePx", double(L::kMaxFlowImagePx)},
       {"kMaxFlowFieldBytes", double(L::kMaxFlowFieldBytes)},
+      {"kFlowMapCacheBytes", double(L::kFlowMapCacheBytes)},
       {"kMinAnimationChunkSeconds", double(L::kMinAnimationChunkSeconds)},
       {"kMaxAnimationChunkSeconds", double(L::kMaxAnimationChunkSeconds)},
       {"kDefaultAnimationChunkSeconds", double(L::kDefaultAnimationChunkSeconds)},

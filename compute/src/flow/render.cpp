@@ -12,6 +12,8 @@
 #include "trailscope/core/error.hpp"
 #include "trailscope/density/colormap.hpp"
 #include "trailscope/density/renderer.hpp"
+#include "trailscope/geo/tile_id.hpp"
+#include "trailscope/geo/web_mercator.hpp"
 
 namespace trailscope::flow {
 namespace {
@@ -30,6 +32,101 @@ struct Layer {
     d[2] = static_cast<float>(b * a + d[2] * k), d[3] = static_cast<float>(a + d[3] * k);
   }
 };
+
+/// A window of output pixels onto a flow map's cell plane: the point at cell coordinates (cx, cy) lies at
+/// pixel (cx·scale − off_x[k], cy·scale − off_y), pixel (px, py) covering [px, px+1) × [py, py+1), once for
+/// every x offset k (a map tile that sees the grid in two copies of the world, across 180°, has two).
+struct LineCanvas {
+  int w, h;
+  double scale;
+  std::vector<double> off_x;
+  double off_y;
+};
+
+/// Step 2 of render.hpp (the lines layer, premultiplied, at opacity `a1`) on `c`: per line, lightest first,
+/// every segment whose pixel box (widened by the line's half width + 1 px) meets the canvas sets the
+/// coverage of the pixels it reaches (the most any of the line's segments gives), then the line is
+/// composited "over". Segments that miss the canvas cost a bounds test only. A pixel's value depends on
+/// the lines and its own position only, so windows that share pixels draw them alike (tiles join).
+/// `mask` (w × h, CV_8U): set to 0 where a line covers >= 0.5.
+Layer draw_lines(const FlowMap& map, const bundling::Polylines& pl, const LineCanvas& c, double line_width,
+                 double a1, cv::Mat* mask) {
+  const int W = c.w, H = c.h;
+  Layer lines(W, H);
+  std::vector<std::size_t> order(pl.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return map.line_traffic[a] < map.line_traffic[b]; });
+  const double tmax =
+      map.line_traffic.empty()
+          ? 1.0
+          : std::max(1e-30f, *std::max_element(map.line_traffic.begin(), map.line_traffic.end()));
+  std::vector<float> cover(static_cast<std::size_t>(W) * H, 0.f);
+  std::vector<float> rgb(static_cast<std::size_t>(W) * H * 3, 0.f);
+  std::vector<std::size_t> touched;
+  const double s = c.scale;
+  for (const std::size_t l : order) {
+    const double t = std::sqrt(std::clamp(map.line_traffic[l] / tmax, 0.0, 1.0));
+    const double hw = 0.5 * line_width * (0.5 + 1.5 * t);
+    const double alpha = 0.25 + 0.75 * t;
+    const double r = hw + 1;
+    touched.clear();
+    for (const double ox : c.off_x)
+      for (std::size_t k = pl.begin(l); k + 1 < pl.end(l); ++k) {
+        const double x0 = pl.x[k] * s - ox, y0 = pl.y[k] * s - c.off_y;
+        const double x1 = pl.x[k + 1] * s - ox, y1 = pl.y[k + 1] * s - c.off_y;
+        if (std::max(x0, x1) + r < 0 || std::min(x0, x1) - r > W || std::max(y0, y1) + r < 0 ||
+            std::min(y0, y1) - r > H)
+          continue;
+        const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
+        double heading = std::atan2(dx, -dy) / (2 * kPi);
+        if (heading < 0) heading += 1;
+        const bundling::Rgb col = bundling::hsv_to_rgb(heading, 0.85, 1.0);
+        const int px0 = std::max(0, static_cast<int>(std::floor(std::min(x0, x1) - r)));
+        const int px1 = std::min(W - 1, static_cast<int>(std::ceil(std::max(x0, x1) + r)));
+        const int py0 = std::max(0, static_cast<int>(std::floor(std::min(y0, y1) - r)));
+        const int py1 = std::min(H - 1, static_cast<int>(std::ceil(std::max(y0, y1) + r)));
+        for (int py = py0; py <= py1; ++py)
+          for (int px = px0; px <= px1; ++px) {
+            const double cx = px + 0.5, cy = py + 0.5;
+            double u = len2 > 0 ? ((cx - x0) * dx + (cy - y0) * dy) / len2 : 0;
+            u = std::clamp(u, 0.0, 1.0);
+            const double ex = x0 + u * dx - cx, ey = y0 + u * dy - cy;
+            const double cov = std::clamp(hw + 0.5 - std::sqrt(ex * ex + ey * ey), 0.0, 1.0);
+            if (cov <= 0) continue;
+            const std::size_t p = static_cast<std::size_t>(py) * W + px;
+            if (cover[p] == 0) touched.push_back(p);
+            if (cov > cover[p]) {
+              cover[p] = static_cast<float>(cov);
+              rgb[3 * p] = static_cast<float>(col[0]), rgb[3 * p + 1] = static_cast<float>(col[1]),
+                      rgb[3 * p + 2] = static_cast<float>(col[2]);
+            }
+          }
+      }
+    for (const std::size_t p : touched) {
+      lines.over(p, rgb[3 * p], rgb[3 * p + 1], rgb[3 * p + 2], alpha * cover[p] * a1);
+      if (mask && cover[p] >= 0.5) mask->data[p] = 0;
+      cover[p] = 0;
+    }
+  }
+  return lines;
+}
+
+/// A premultiplied layer over a transparent background, as straight-alpha 8-bit RGBA (step 4's rounding).
+density::Image to_image(const Layer& layer) {
+  density::Image out;
+  out.width = layer.w, out.height = layer.h;
+  out.rgba.resize(static_cast<std::size_t>(layer.w) * layer.h * 4);
+  for (std::size_t p = 0; p < static_cast<std::size_t>(layer.w) * layer.h; ++p) {
+    const float* q = &layer.px[p * 4];
+    const double a = q[3], un = a > 0 ? 1 / a : 0;
+    std::uint8_t* o = &out.rgba[p * 4];
+    for (int k = 0; k < 3; ++k)
+      o[k] = static_cast<std::uint8_t>(std::lround(std::clamp(q[k] * un, 0.0, 1.0) * 255));
+    o[3] = static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 1.0) * 255));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -183,62 +280,9 @@ density::Image render_flow(const FlowMap& map, const density::Image& base, const
         "base", "the density image must be " + std::to_string(W) + " × " + std::to_string(H) + " px");
   const double L = params.level;
   const bundling::Polylines pl = map.lines_at(L);
-  const double s = params.cell_px;
-
-  // 2. Lines, lightest first.
-  Layer lines(W, H);
   cv::Mat mask(H, W, CV_8U, cv::Scalar(255));  // 0 where a line covers >= 0.5 (distanceTransform's zeros)
-  std::vector<std::size_t> order(pl.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return map.line_traffic[a] < map.line_traffic[b]; });
-  const double tmax =
-      map.line_traffic.empty()
-          ? 1.0
-          : std::max(1e-30f, *std::max_element(map.line_traffic.begin(), map.line_traffic.end()));
-  std::vector<float> cover(static_cast<std::size_t>(W) * H, 0.f);
-  std::vector<float> rgb(static_cast<std::size_t>(W) * H * 3, 0.f);
-  std::vector<std::size_t> touched;
-  const double a1 = std::min(L, 1.0);
-  for (const std::size_t l : order) {
-    const double t = std::sqrt(std::clamp(map.line_traffic[l] / tmax, 0.0, 1.0));
-    const double hw = 0.5 * params.line_width * (0.5 + 1.5 * t);
-    const double alpha = 0.25 + 0.75 * t;
-    touched.clear();
-    for (std::size_t k = pl.begin(l); k + 1 < pl.end(l); ++k) {
-      const double x0 = pl.x[k] * s, y0 = pl.y[k] * s, x1 = pl.x[k + 1] * s, y1 = pl.y[k + 1] * s;
-      const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
-      double heading = std::atan2(dx, -dy) / (2 * kPi);
-      if (heading < 0) heading += 1;
-      const bundling::Rgb c = bundling::hsv_to_rgb(heading, 0.85, 1.0);
-      const double r = hw + 1;
-      const int px0 = std::max(0, static_cast<int>(std::floor(std::min(x0, x1) - r)));
-      const int px1 = std::min(W - 1, static_cast<int>(std::ceil(std::max(x0, x1) + r)));
-      const int py0 = std::max(0, static_cast<int>(std::floor(std::min(y0, y1) - r)));
-      const int py1 = std::min(H - 1, static_cast<int>(std::ceil(std::max(y0, y1) + r)));
-      for (int py = py0; py <= py1; ++py)
-        for (int px = px0; px <= px1; ++px) {
-          const double cx = px + 0.5, cy = py + 0.5;
-          double u = len2 > 0 ? ((cx - x0) * dx + (cy - y0) * dy) / len2 : 0;
-          u = std::clamp(u, 0.0, 1.0);
-          const double ex = x0 + u * dx - cx, ey = y0 + u * dy - cy;
-          const double cov = std::clamp(hw + 0.5 - std::sqrt(ex * ex + ey * ey), 0.0, 1.0);
-          if (cov <= 0) continue;
-          const std::size_t p = static_cast<std::size_t>(py) * W + px;
-          if (cover[p] == 0) touched.push_back(p);
-          if (cov > cover[p]) {
-            cover[p] = static_cast<float>(cov);
-            rgb[3 * p] = static_cast<float>(c[0]), rgb[3 * p + 1] = static_cast<float>(c[1]),
-                    rgb[3 * p + 2] = static_cast<float>(c[2]);
-          }
-        }
-    }
-    for (const std::size_t p : touched) {
-      lines.over(p, rgb[3 * p], rgb[3 * p + 1], rgb[3 * p + 2], alpha * cover[p] * a1);
-      if (cover[p] >= 0.5) mask.data[p] = 0;
-      cover[p] = 0;
-    }
-  }
+  const Layer lines = draw_lines(map, pl, LineCanvas{W, H, static_cast<double>(params.cell_px), {0.0}, 0.0},
+                                 params.line_width, std::min(L, 1.0), &mask);
 
   // 3. The density layer's opacity with the distance-field halo.
   const double a0 = std::max(0.0, 1 - L);
@@ -274,6 +318,33 @@ density::Image render_flow(const FlowMap& map, const density::Image& base, const
     o[3] = static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 1.0) * 255));
   }
   return out;
+}
+
+density::Image render_flow_tile(const FlowMap& map, const geo::TileId& tile, int size,
+                                const FlowRenderParams& params) {
+  params.validate();
+  geo::validate_tile(tile);
+  if (size != limits::kTileSizeSmall && size != limits::kTileSizeLarge)
+    throw invalid_argument("size", "size must be " + std::to_string(limits::kTileSizeSmall) + " or " +
+                                       std::to_string(limits::kTileSizeLarge));
+  const Grid& g = map.field.grid;
+  if (!g.geographic) throw Error(Error::Kind::unprocessable, "grid", "map tiles need a map grid");
+  // Mercator units per tile pixel: a power of two (2^(32 − z) / size), so pixel positions are exact.
+  const double units = static_cast<double>(geo::tile_size_units(tile.z)) / size;
+  const double tx0 = static_cast<double>(geo::tile_origin_x(tile));
+  const double ty0 = static_cast<double>(geo::tile_origin_y(tile));
+  const double world = static_cast<double>(geo::kWorldUnits);
+  const double gx1 = g.x0 + g.nx * g.cell;
+  // The grid in every copy of the world the tile sees (a grid across 180° runs past 2^32 in x).
+  LineCanvas c{size, size, g.cell / units, {}, (ty0 - g.y0) / units};
+  for (const double shift : {-world, 0.0, world}) {
+    const double lo = tx0 + shift, hi = lo + size * units;
+    if (hi > g.x0 && lo < gx1) c.off_x.push_back((lo - g.x0) / units);
+  }
+  if (c.off_x.empty() || ty0 + size * units <= g.y0 || ty0 >= g.y0 + g.ny * g.cell)
+    return to_image(Layer(size, size));  // the grid does not reach this tile
+  const bundling::Polylines pl = map.lines_at(params.level);
+  return to_image(draw_lines(map, pl, c, params.line_width, std::min(params.level, 1.0), nullptr));
 }
 
 }  // namespace trailscope::flow

@@ -241,7 +241,8 @@ void read_eyelink(std::string_view text, Ctx& c) {
     } else if (key == "MSG" && f.size() >= 3) {
       const std::string_view what = f[2];
       if ((what == "DISPLAY_COORDS" || what == "GAZE_COORDS") && f.size() >= 7) {
-        const double x0 = need_num(f[3], lines.number, what.data()), y0 = need_num(f[4], lines.number, "y0");
+        // (`what` views the line: it is not NUL-terminated, so it is never passed as a C string.)
+        const double x0 = need_num(f[3], lines.number, "x0"), y0 = need_num(f[4], lines.number, "y0");
         const double x1 = need_num(f[5], lines.number, "x1"), y1 = need_num(f[6], lines.number, "y1");
         // DISPLAY_COORDS 0 0 1023 767 (last pixel) and EyeLink I's 0 0 640 480 (size) both occur; the
         // inclusive form is the documented one, so a size that is odd after +1 means the exclusive form.
@@ -620,6 +621,7 @@ void read_sgt(std::string_view text, Ctx& c) {
       else if (k == "#SCREEN_ORIGIN")
         bottom_left = f.size() >= 2 && trim(f[1]) == "BottomLeft";
       else if (k == "#DATAFORMAT") {
+        ix = iy = ilx = ily = irx = iry = -1;  // a later #DATAFORMAT replaces the columns of an earlier one
         for (std::size_t i = 1; i < f.size(); ++i) {
           const std::string_view n = trim(f[i]);
           const long j = long(i - 1);
@@ -668,7 +670,7 @@ void read_sgt(std::string_view text, Ctx& c) {
     };
     double x, y;
     bool v;
-    if (ix >= 0) {
+    if (ix >= 0 && iy >= 0) {
       double a, b;
       const bool va = pos(ix, a), vb = pos(iy, b);
       x = a, y = b, v = va && vb;
@@ -784,6 +786,9 @@ void read_plain(std::string_view text, Ctx& c) {
     if (units == Units::px && x == 0 && y == 0) v = false;
     for (std::size_t k = 0; k < label_cols.size(); ++k) {
       const double lv = pos(label_cols[k].first, "label");
+      // Labels are event codes (gaze.hpp EventType): a value no int holds is damage, not a code.
+      if (std::isfinite(lv) && std::abs(lv) >= 2147483648.0)
+        damaged(lines.number, "label is out of range: " + shown(f[label_cols[k].first]));
       r.annotations[k].second.push_back(std::isfinite(lv) ? int(lv) : 0);
     }
     c.push(r, t, x, y, v);

@@ -23,6 +23,7 @@
 #include "replay/replay_manager.hpp"
 #include "bundle_stream/bundle_stream_session.hpp"
 #include "store/tile_cache.hpp"
+#include "store/flow_map_cache.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/density/renderer.hpp"
 
@@ -41,6 +42,9 @@ struct App {
   /// Encoded animation chunks (routes/animation.cpp), keyed like the tiles by dataset and creation stamp.
   TileCache animation_chunks{limits::kAnimationCacheBytes};
   density::DensityRenderer density;
+  /// The flow maps the flow tiles are drawn from (routes/flow.cpp), computed once per dataset, window and
+  /// flow parameters.
+  FlowMapCache flow_maps{limits::kFlowMapCacheBytes};
   /// Uploaded graphs and bundling results, opened in `data_root` (null without one: the graph and bundle
   /// routes then answer 500). Declared after `jobs` so they are destroyed first; running jobs hold their
   /// own references.

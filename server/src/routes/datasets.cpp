@@ -34,6 +34,7 @@ Response delete_dataset(App& app, const Request& req, const PathParams& p) {
   app.store->remove(id);
   app.tiles.erase_prefix(params::dataset_cache_prefix(id));
   app.animation_chunks.erase_prefix(params::dataset_cache_prefix(id));
+  app.flow_maps.erase_prefix(params::dataset_cache_prefix(id));
   return Response::no_content();
 }
 

@@ -1,9 +1,13 @@
 // Flow maps (compute/.../flow/render.hpp, flow_image):
 //   GET  /api/v1/datasets/{dataset}/flow   the flow map of a dataset's traffic under the window filters
 //   POST /api/v1/flow                      the flow map of an uploaded vector field (proto/flow_field.md)
-// Both take the flow options as query parameters (the CLI's --param names) and `format=png|json`: the
-// image, or the streamlines at `level` as JSON. The cost is checked by flow_image before any point is
-// read (limits::kMaxFlowLinePoints, kMaxFlowImagePx, kMaxFlowGridCells); both run on the compute lane.
+//   GET  /api/v1/datasets/{dataset}/flow/{z}/{x}/{y}.png   XYZ tiles of the dataset's flow map (lines layer)
+// The first two take the flow options as query parameters (the CLI's --param names) and `format=png|json`:
+// the image, or the streamlines at `level` as JSON. The cost is checked by flow_image before any point is
+// read (limits::kMaxFlowLinePoints, kMaxFlowImagePx, kMaxFlowGridCells); all run on the compute lane.
+// The tiles take the same window filters and field, streamline and bundling parameters, plus `level`,
+// `line_width` and `size`: the map is computed once per dataset, window and those parameters (App::flow_maps,
+// its cost checked by flow_map before any point is read) and each tile draws the lines that reach it.
 #include "params/query_params.hpp"
 #include "params/tile_params.hpp"
 #include "routes/handlers.hpp"
@@ -60,7 +64,50 @@ Response answer(const flow::FlowImage& r, const Options& o) {
   return res;
 }
 
+/// The option names of a flow tile: what shapes the map (field, streamlines, bundling) and how a tile
+/// draws it (level, line_width), besides the window filters and the tile size.
+std::vector<std::string> flow_tile_keys() {
+  std::vector<std::string> keys = {"size",        "level",         "line_width",     "grid",
+                                   "sectors",     "smooth",        "max_gap",        "d_sep",
+                                   "d_test",      "step",          "integrator",     "min_length",
+                                   "min_traffic", "min_coherence", "max_line_points"};
+  for (const auto& info : bundling::parameter_infos()) keys.push_back("bundle." + info.name);
+  return params::with_query_keys(std::move(keys));
+}
+
 }  // namespace
+
+Response dataset_flow_tile(App& app, const Request& req, const PathParams& p) {
+  reject_unknown_params(req, flow_tile_keys());
+  const auto ds = app.store->get(p.at("dataset"));
+  const Query q = parse_query(req.query);
+  const params::TileCoords c = params::tile_coords(req, p);
+  flow::FlowParams fp;
+  flow::FlowRenderParams rp;
+  std::string map_options, tile_options;  // in name order (the query is a sorted map)
+  const auto& window = params::query_keys();
+  for (const auto& [k, v] : req.query) {
+    if (k == "size" || std::find(window.begin(), window.end(), k) != window.end()) continue;
+    if (k == "level" || k == "line_width") {
+      rp.set(k, v);
+      tile_options += "&" + k + "=" + v;
+    } else {
+      fp.set(k, v);
+      map_options += "&" + k + "=" + v;
+    }
+  }
+  // Every input that changes the map, and then the tile's bytes.
+  const std::string dataset_key = params::dataset_cache_key(ds->id, ds->created);
+  const std::string map_key = dataset_key + "/flow?" + q.canonical() + map_options;
+  const std::string key = dataset_key + "/flow/" + std::to_string(c.z) + "/" + std::to_string(c.x) + "/" +
+                          std::to_string(c.y) + "?" + q.canonical() + map_options + tile_options +
+                          "&size=" + std::to_string(c.size);
+  return cached_png(app.tiles, key, req, [&] {
+    const FlowMapCache::Map map = app.flow_maps.get(
+        map_key, [&] { return flow::flow_map(*ds->trails, q, fp, default_backend(), {}, req.cancel.get()); });
+    return density::encode_png(flow::render_flow_tile(*map, geo::TileId{c.z, c.x, c.y}, c.size, rp));
+  });
+}
 
 Response dataset_flow(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, flow_keys(true));

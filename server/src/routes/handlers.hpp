@@ -30,6 +30,8 @@ Response congestion_tile(App& app, const Request& req, const PathParams& p);
 /// Flow maps (trailscope/flow/render.hpp): of a dataset's traffic, and of an uploaded vector field.
 Response dataset_flow(App& app, const Request& req, const PathParams& p);
 Response upload_flow(App& app, const Request& req, const PathParams& p);
+/// XYZ tiles of a dataset's flow map (its lines layer; flow::render_flow_tile), from App::flow_maps.
+Response dataset_flow_tile(App& app, const Request& req, const PathParams& p);
 
 Response create_graph(App& app, const Request& req, const PathParams& p);
 

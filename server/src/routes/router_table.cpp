@@ -150,6 +150,8 @@ Router make_router(App& app) {
         BodyRule{limits::kMaxFlowFieldBytes, false, "vector field"})
       .needs(Role::reader)
       .on(Lane::compute);  // 200 400 413 415 422
+  r.add("GET", "/api/v1/datasets/{dataset}/flow/{z}/{x}/{y}.png", bind(dataset_flow_tile))
+      .on(Lane::compute);  // 200 304 400 404 413 422
   // WebSocket upgrades: job events, and the viewers of a replay (404 or 409 before the upgrade).
   r.add_websocket("/api/v1/ws", WebSocketKind::events,
                   [](const Request&, const PathParams&) { return Response::status_only(101); });

@@ -26,6 +26,7 @@
 
 #include "trailscope/density/shade.hpp"
 #include "trailscope/flow/flow_map.hpp"
+#include "trailscope/geo/tile_id.hpp"
 #include "trailscope/trails/query.hpp"
 #include "trailscope/trails/trail_set.hpp"
 
@@ -83,5 +84,25 @@ FlowImage flow_image(VectorField field, const FlowParams& params, const FlowRend
 /// Draws `map` at params.level over `base` (which must have params.size(map); invalid_argument(`base`)
 /// otherwise). Throws as FlowRenderParams::validate and FlowMap::lines_at.
 density::Image render_flow(const FlowMap& map, const density::Image& base, const FlowRenderParams& params);
+
+/// One XYZ map tile of a flow map on a geographic grid: the tile grid of the density tiles (Web Mercator,
+/// geo/tile_id.hpp; tile (z, x, y) covers 32-bit Mercator units [x·2^(32−z), (x+1)·2^(32−z)) in x and the
+/// same in y, `size` pixels a side), holding the LINES layer of render_flow at params.level (step 2 above:
+/// lines_at(level), widths params.line_width in tile pixels, colour by heading, opacity min(level, 1)) over
+/// a transparent background, straight alpha. The density level and its halo are not in it: on a map the
+/// density tiles are that level, drawn under these at opacity 1 − level. cell_px, halo_px, background and
+/// cmap are not used (the tile's zoom sets the scale).
+/// SEAMLESS. Each pixel is computed from the lines and its own Mercator position only, exactly as
+/// render_flow computes a pixel of the whole view (the lines of every segment that reaches the tile,
+/// widened by its half width, are drawn; the others are skipped after a bounds test), so neighbouring
+/// tiles join without a seam, and where a tile's pixels coincide with the whole view's (cell_px pixels of
+/// the view = one cell = a whole number of tile pixels, the grid's corner on a tile pixel) the bytes are
+/// the same as render_flow with a transparent background at level >= 1. A grid that runs past 180° east
+/// is drawn in every copy of the world the tile sees. A tile the grid does not reach is transparent.
+/// Throws invalid_argument as FlowRenderParams::validate and geo::validate_tile (`z`, `x`, `y`),
+/// invalid_argument(`size`) unless size is limits::kTileSizeSmall or kTileSizeLarge, and
+/// Error(unprocessable, `grid`) for a map without a geographic grid.
+density::Image render_flow_tile(const FlowMap& map, const geo::TileId& tile, int size,
+                                const FlowRenderParams& params);
 
 }  // namespace trailscope::flow

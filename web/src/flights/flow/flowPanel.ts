@@ -3,6 +3,8 @@
 // level 1 and at level 2: the same lines, resampled alike) and draws them as a MapLibre line layer,
 // coloured by heading and weighted by traffic. The level slider then moves on the client (model.ts):
 // 0 = the density tiles alone, 1 = the streamlines, 2 = their bundles.
+// The server also draws these lines as XYZ tiles (GET /api/v1/datasets/{id}/flow/{z}/{x}/{y}.png) for other map
+// clients; this layer keeps the geometry instead, so that the slider blends levels without a request per step.
 
 import type * as maplibregl from 'maplibre-gl';
 import { ApiError, isAbort, request } from '../../api/client';
