@@ -140,6 +140,10 @@ export class TimeBrush {
     // second lands (onDown).
     this.zoomBehavior = zoom<HTMLElement, unknown>()
       .filter((e: Event) => e.type === 'wheel' || (e.type.startsWith('touch') && (e as TouchEvent).touches.length >= 2))
+      // Touch listeners always: d3-zoom otherwise attaches them only where the page saw touch support when
+      // it loaded (navigator.maxTouchPoints), and a touch screen attached later (or an emulated one) would
+      // get no pinch.
+      .touchable(() => true)
       .on('zoom', (e: D3ZoomEvent<HTMLElement, unknown>) => this.onZoom(e.transform.k, e.transform.x));
     select(this.plot).call(this.zoomBehavior).on('dblclick.zoom', null);
     // At a zoom limit d3-zoom lets the wheel through: it would scroll the page under the analyst's hand.
