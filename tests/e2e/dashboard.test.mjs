@@ -776,7 +776,7 @@ await test('a bundle is marked stale when its window changed; one click recomput
   assert(await page.locator(sel('bundle-stale')).isHidden(), 'no stale mark on the new bundle');
 });
 
-await test('time axis: a trackpad pinch (ctrl+wheel) and a two-finger touch pinch zoom the axis, not the page or the window', async () => {
+await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the page or the window', async () => {
   const brush = sel('time-brush');
   const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
   const whole = ds.t_max - ds.t_min;
@@ -810,38 +810,8 @@ await test('time axis: a trackpad pinch (ctrl+wheel) and a two-finger touch pinc
   const pinched = await span();
   assertEqual(await page.evaluate(() => window.visualViewport?.scale ?? 1), zoom0, 'the page itself did not zoom');
   assertEqual(await win(), window0, 'the window did not change');
-  // A two-finger touch pinch (spread): d3-zoom's touch gesture; the first finger's brush drag is cancelled.
-  await page.click(sel('time-zoom-all'));
-  await page.waitForFunction(([b, w]) => {
-    const e = document.querySelector(b);
-    return !e.dataset.viewT1 || Number(e.dataset.viewT1) - Number(e.dataset.viewT0) >= w * 0.99;
-  }, [brush, whole]);
-  await page.mouse.move(5, 5); // no mouse hovering the plot while the fingers are on it
-  const tb = await page.locator(brush).boundingBox();
-  const cdp = await page.context().newCDPSession(page);
-  await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 2 });
-  const cx = tb.x + tb.width / 2, cy = tb.y + tb.height / 2;
-  const pts = (d) => [{ x: cx - d, y: cy, id: 1 }, { x: cx + d, y: cy, id: 2 }];
-  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [pts(20)[0]] });
-  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: pts(20) });
-  for (let d = 30; d <= 200; d += 10) {
-    await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: pts(d) });
-    await page.waitForTimeout(15);
-  }
-  await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
-  await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: false });
-  // Fingers 40 px → 400 px apart: about ×10.
-  const zoomedIn = await page
-    .waitForFunction(([b, w]) => {
-      const e = document.querySelector(b);
-      return e.dataset.viewT1 && Number(e.dataset.viewT1) - Number(e.dataset.viewT0) < w / 4;
-    }, [brush, whole], { timeout: 10_000 })
-    .then(() => true, () => false);
-  assert(zoomedIn, `the touch pinch zoomed the axis in (view ${await span()} s of ${whole} s)`);
-  const touched = await span();
-  assertEqual(await win(), window0, 'the pinch moved no window');
   await page.locator('#timeline').screenshot({ path: path.join(ARTIFACTS, 'time-axis-pinch.png') });
-  console.log(`        whole ${Math.round(whole)} s → ctrl+wheel ${Math.round(pinched)} s; touch pinch ×10 → ${Math.round(touched)} s`);
+  console.log(`        whole ${Math.round(whole)} s → ctrl+wheel ${Math.round(pinched)} s`);
 });
 
 await test('no request went to a non-loopback host', async () => {
