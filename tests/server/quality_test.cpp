@@ -49,12 +49,17 @@ std::vector<std::pair<std::size_t, bool>> rule_splits(const PointColumns& p, std
     return d >= kSplitDistance && d / std::max(p.t[y] - first(x), 1.0) > kSplitSpeed;
   };
   std::vector<std::pair<std::size_t, bool>> out;
+  std::size_t start = b;  // first point of the piece being built
   for (std::size_t i = b + 1; i < e; ++i) {
-    if (p.t[i] - p.t[i - 1] > kLegGap)
-      out.push_back({i, true});
-    else if (i >= b + 2 && i + 1 < e && impossible(i - 1, i) && impossible(i - 1, i + 1) &&
-             impossible(i - 2, i) && !impossible(i, i + 1) && !impossible(i - 2, i - 1))
+    const std::size_t before = out.size();
+    if (p.t[i] - p.t[i - 1] > kLegGap) {
+      // Two legs of at least two points each.
+      if (i - start >= 2 && i + 1 < e && p.t[i + 1] - p.t[i] <= kLegGap) out.push_back({i, true});
+    } else if (i >= b + 2 && i + 1 < e && impossible(i - 1, i) && impossible(i - 1, i + 1) &&
+               impossible(i - 2, i) && !impossible(i, i + 1) && !impossible(i - 2, i - 1)) {
       out.push_back({i, false});
+    }
+    if (out.size() != before) start = i;
   }
   return out;
 }
@@ -154,7 +159,7 @@ TEST_F(QualityEurope, DefaultSplitsEqualTheRuleOverTheUnsplitDay) {
                                                   std::max(p.t[i] - p.t[k], 1.0));
       }
     }
-  // Measured on the day: 60 pairs of legs (AFR116's among them) and 11 teleports; most of the 2,358
+  // Measured on the day: 46 pairs of legs (AFR116's among them) and 11 teleports; most of the 2,358
   // jumps are one-point spikes, which stay.
   EXPECT_GT(legs, 10u);
   EXPECT_GT(teleports, 0u);
@@ -163,6 +168,8 @@ TEST_F(QualityEurope, DefaultSplitsEqualTheRuleOverTheUnsplitDay) {
   EXPECT_EQ(s.num_flights(), u.num_flights() + legs + teleports);
   EXPECT_EQ(split.flights, s.num_flights());
   EXPECT_EQ(s.num_points(), u.num_points());
+  for (const Flight& f : s.flights())
+    ASSERT_GE(f.end - f.begin, 2u) << f.callsign << ": a split never leaves one point";
   const Counts cs = count(s, -INFINITY, INFINITY), cu = count(u, -INFINITY, INFINITY);
   EXPECT_EQ(split.quality.jumps.count, cs.jumps);
   EXPECT_EQ(cs.jumps, cu.jumps - teleports);  // every teleport was also a flagged jump

@@ -105,8 +105,12 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, bool split_jum
       bool split = i == n || samples[i].t - samples[i - 1].t > gap_seconds, counted = false;
       if (!split && split_jumps) {
         if (samples[i].t - samples[i - 1].t > kLegGapSeconds) {
-          split = counted = true;
-          local.legs.push_back({key.icao24, key.callsign, samples[i].t, samples[i].t - samples[i - 1].t});
+          // A leg is at least two samples: a lone sample beyond the gap (an SO6 segment whose clock
+          // wrapped at midnight) is not a leg and stays.
+          if (i - b >= 2 && i + 1 < n && samples[i + 1].t - samples[i].t <= kLegGapSeconds) {
+            split = counted = true;
+            local.legs.push_back({key.icao24, key.callsign, samples[i].t, samples[i].t - samples[i - 1].t});
+          }
         } else if (i >= 2 && i + 1 < n && impossible(i - 1, i) && impossible(i - 1, i + 1) &&
                    impossible(i - 2, i) && !impossible(i, i + 1) && !impossible(i - 2, i - 1)) {
           split = counted = true;

@@ -20,7 +20,8 @@
 //    (the Europe SO6 day's AFR116: a departure at 00:00 and the next day's at 22:58 under one flight id).
 //    It is the time-gap rule of the traffic library's Flight.split() (X. Olive, "traffic, a toolbox for
 //    processing and analysing air traffic data", JOSS 2019: split where no sample came for a given time),
-//    with a gap long enough for SO6, whose Douglas-Peucker segments routinely last hours;
+//    with a gap long enough for SO6, whose Douglas-Peucker segments routinely last hours. A leg is at least
+//    two samples: a lone sample beyond such a gap (an SO6 segment whose clock wrapped at midnight) stays;
 //  - a teleport: the step a→b is impossible and the samples on both sides of it agree with their own side:
 //    a "step x→y is impossible" when it is at least kJumpSplitMinDistanceM (50 km) long AND implies more
 //    than kJumpSplitSpeedMs (twice the 800 kt flag, time from the first report of x's position). Required:
@@ -28,7 +29,7 @@
 //    keeps GPS jitter between samples seconds apart from ever splitting (at 1 s, 800 kt is only 412 m),
 //    and the confirmation on both sides keeps a one-point spike (out and back, the common SO6 glitch: a→b
 //    and b→c both impossible, a→c fine) and a glitch at either end of a flight in one piece: those stay
-//    flagged as jumps, not split. A flight therefore never loses a single point to a teleport split.
+//    flagged as jumps, not split. No split ever leaves a flight of one sample.
 // Distances are on the sphere of radius kEarthMeanRadiusM (haversine; the mean radius of WGS84, IUGG),
 // whose error against the ellipsoid (< 0.5 %) is far below the margin of the speed limit.
 #include <cstdint>
