@@ -359,6 +359,55 @@ await test('raw/bundled toggle and the relaxation slider (no recomputation)', as
   await page.screenshot({ path: path.join(ARTIFACTS, 'bundling.png') });
 });
 
+await test('bundle colour modes: each with its legend (real width, ticks in its units) and the tiles asked in that colour', async () => {
+  const want = {
+    direction: /^[NESW] \d+°$/,
+    density: /^(0|1|0\.\d\d)$/,
+    displacement: /^\d+(\.\d)? %$/,
+    length: /^≈[\d,]+$/,
+  };
+  for (const [mode, re] of Object.entries(want)) {
+    await page.selectOption(sel('bundle-color'), mode);
+    await page.waitForFunction((m) => {
+      const t = document.querySelector('[data-testid="map"]').dataset.bundleTemplate;
+      const l = document.querySelector('.bundle-legend');
+      return (m === 'length' ? !t.includes('color=') : t.includes(`color=${m}`)) && l?.dataset.color === m;
+    }, mode);
+    const bl = await page.$eval('[data-testid="bundle-legend"]', (el) => ({
+      width: el.querySelector('[data-testid="bundle-legend-bar"]').getBoundingClientRect().width,
+      ticks: el.dataset.ticks.split('|'),
+      drawn: [...el.querySelectorAll('.value-legend-axis .tick text')].map((t) => t.textContent),
+      title: el.querySelector('.value-legend-title').textContent,
+    }));
+    assert(bl.width >= 200, `${mode}: legend ${bl.width} px wide`);
+    assert(bl.ticks.length >= 3 && bl.ticks.every((t) => re.test(t)), `${mode}: ticks ${bl.ticks}`);
+    assertEqual(bl.drawn.join('|'), bl.ticks.join('|'), `${mode}: the axis draws the ticks`);
+    if (mode === 'direction') assertEqual(bl.ticks.join('|'), 'N 0°|E 90°|S 180°|W 270°|N 360°', 'bearings');
+    if (mode === 'density') assertEqual(bl.ticks.at(-1), '1', 'density up to the local maximum');
+    if (mode === 'displacement') {
+      const md = Number((await (await fetch(`${BASE_URL}/api/v1/bundles/${await page.getAttribute('#bundle-section', 'data-bundle')}`)).json()).params.max_displacement);
+      assertEqual(bl.ticks.at(-1), `${Math.round(100 * md * 10) / 10} %`, 'displacement up to max_displacement');
+    }
+    // The tiles of that colour load (200 image/png from the server's renderer).
+    await page.waitForFunction(() => {
+      const m = document.querySelector('[data-testid="map"]');
+      return m.dataset.idle === 'true' && m.dataset.bundleLoaded === 'true';
+    });
+    if (mode !== 'length') {
+      const tile = tileResponses.filter((r) => r.url.includes('/bundle/') && r.url.includes(`color=${mode}`));
+      assert(tile.length > 0 && tile.every((r) => r.status === 200 || r.status === 304), `${mode}: tiles fetched (${tile.map((r) => r.status)})`);
+      await page.mouse.move(5, 5);
+      await page.screenshot({ path: path.join(ARTIFACTS, `bundle-colour-${mode}.png`) });
+    }
+  }
+  // Flat is one colour: no legend.
+  await page.selectOption(sel('bundle-color'), 'flat');
+  await page.waitForFunction(() => document.querySelector('.bundle-legend')?.dataset.color === 'flat');
+  assertEqual(await page.locator('[data-testid="bundle-legend"]').count(), 0, 'flat has no legend');
+  await page.selectOption(sel('bundle-color'), 'length');
+  await page.waitForFunction(() => document.querySelector('.bundle-legend')?.dataset.color === 'length');
+});
+
 // ---------- legends, time axis, state you can trust ----------
 
 /** The density legend's ticks as drawn: label and x of each tick relative to the bar's left edge. */
@@ -725,6 +774,44 @@ await test('a bundle is marked stale when its window changed; one click recomput
   const t0 = await page.getAttribute(sel('time-brush'), 'data-t0');
   assert(t0 && JSON.stringify(meta.source).includes(t0), `the new bundle is of the current window (t0 ${t0}): ${JSON.stringify(meta.source)}`);
   assert(await page.locator(sel('bundle-stale')).isHidden(), 'no stale mark on the new bundle');
+});
+
+await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the page or the window', async () => {
+  const brush = sel('time-brush');
+  const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
+  const whole = ds.t_max - ds.t_min;
+  // The view's span (no view attributes: the whole data set).
+  const span = async () => {
+    const [a, b] = [await page.getAttribute(brush, 'data-view-t0'), await page.getAttribute(brush, 'data-view-t1')];
+    return a && b ? Number(b) - Number(a) : whole;
+  };
+  const win = async () => [await page.getAttribute(brush, 'data-t0'), await page.getAttribute(brush, 'data-t1')].join('-');
+  await page.click(sel('time-zoom-all'));
+  await page.waitForFunction(([b, w]) => {
+    const e = document.querySelector(b);
+    return !e.dataset.viewT1 || Number(e.dataset.viewT1) - Number(e.dataset.viewT0) >= w * 0.99;
+  }, [brush, whole]);
+  assert((await span()) >= whole * 0.99, `the whole range shows (${await span()} of ${whole} s)`);
+  const window0 = await win();
+  const zoom0 = await page.evaluate(() => window.visualViewport?.scale ?? 1);
+  const box = await page.locator(brush).boundingBox();
+  // Trackpads send a pinch as wheel events with ctrlKey (small deltas, many of them).
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.keyboard.down('Control');
+  for (let i = 0; i < 10; i++) {
+    await page.mouse.wheel(0, -20);
+    await page.waitForTimeout(30);
+  }
+  await page.keyboard.up('Control');
+  await page.waitForFunction(([b, w]) => {
+    const e = document.querySelector(b);
+    return e.dataset.viewT1 && Number(e.dataset.viewT1) - Number(e.dataset.viewT0) < w / 2;
+  }, [brush, whole]);
+  const pinched = await span();
+  assertEqual(await page.evaluate(() => window.visualViewport?.scale ?? 1), zoom0, 'the page itself did not zoom');
+  assertEqual(await win(), window0, 'the window did not change');
+  await page.locator('#timeline').screenshot({ path: path.join(ARTIFACTS, 'time-axis-pinch.png') });
+  console.log(`        whole ${Math.round(whole)} s → ctrl+wheel ${Math.round(pinched)} s`);
 });
 
 await test('no request went to a non-loopback host', async () => {

@@ -586,6 +586,35 @@ await test('t-SNE on a 20-run sweep: the perplexity is capped to (N − 1) / 3 a
   await page.locator('.projection-panel').screenshot({ path: path.join(ARTIFACTS, 'runs-tsne-20.png') });
 });
 
+await test('a projection whose runs changed on the server is marked stale (a comparison whose runs are all there is not); one click recomputes', async () => {
+  // The 20-run sweep, two of its runs selected and compared; a third run is deleted by another client.
+  const sweepId = (await state()).sweep;
+  const ids = (await api('GET', `/api/v1/sweeps/${sweepId}`)).runs.map((r) => (typeof r === 'string' ? r : r.id));
+  assertEqual(ids.length, 20, 'the 20-run sweep');
+  await page.goto(`${BASE_URL}/#runs?sweep=${encodeURIComponent(sweepId)}&sel=${ids[1]},${ids[2]}`, { waitUntil: 'domcontentloaded' });
+  await page.waitForFunction(() => document.querySelector('[data-testid="projection"]')?.dataset.state === 'ready', null, { timeout: 60_000 });
+  await page.waitForFunction(() => window.__trailscopeRuns.state().lanes.length === 2, null, { timeout: 60_000 });
+  assertEqual((await state()).points.length, 20, '20 runs projected');
+  assert(await page.locator(sel('projection-stale')).isHidden(), 'a fresh projection has no stale mark');
+  const del = await fetch(`${BASE_URL}/api/v1/runs/${encodeURIComponent(ids[0])}`, { method: 'DELETE' });
+  assertEqual(del.status, 204, 'DELETE run');
+  // The view learns it when it checks (here: the window gains focus).
+  await page.evaluate(() => window.dispatchEvent(new Event('focus')));
+  await page.waitForFunction(() => document.querySelector('[data-testid="projection"]')?.dataset.stale === 'true');
+  assert((await page.textContent(sel('projection-stale'))).includes('19 runs on the server now, 20 projected'), 'the projection says why');
+  assert(await page.locator(sel('compare-stale')).isHidden(), 'the comparison (its two runs still there) is not stale');
+  assertEqual((await state()).points.length, 20, 'nothing was recomputed behind the analyst');
+  await page.mouse.move(5, 5);
+  await page.screenshot({ path: path.join(ARTIFACTS, 'runs-stale.png') });
+  // One click: the lists are reloaded and the projection made again from the 19 runs; the mark goes.
+  await page.click(sel('projection-recompute'));
+  await page.waitForFunction(() => {
+    const p = document.querySelector('[data-testid="projection"]');
+    return p?.dataset.state === 'ready' && p.dataset.stale === 'false' && window.__trailscopeRuns.state().points.length === 19;
+  }, null, { timeout: 60_000 });
+  assert(await page.locator(sel('projection-stale')).isHidden(), 'no stale mark after recomputing');
+});
+
 await test('no request went to a non-loopback host', async () => {
   const outside = [...new Set(requests.filter(leavesMachine))];
   assert(requests.some((u) => u.includes('/api/v1/compare') || u.includes('/api/v1/projections')), 'API requests were recorded');

@@ -297,6 +297,25 @@ TEST_F(BundlesTest, BundleOfADatasetWindow) {
   expect_detail(get(tile, {{"value", "count"}}), 400, "invalid_argument", "value",
                 "unknown query parameter 'value'");
   expect_error(get(tile, {{"style", "wavy"}}), 400, "invalid_argument", "style");
+
+  // The colour modes the dashboard offers (its legend per mode, web/src/lib/legend.ts): the same pixels
+  // drawn with the same alpha, other colours; flat is grey everywhere.
+  for (const std::string color : {"direction", "density", "displacement", "flat"}) {
+    SCOPED_TRACE(color);
+    const Response r = get(tile, {{"color", color}});
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_NE(r.bytes(), t.bytes());
+    const density::Image c = density::decode_png(r.bytes());
+    ASSERT_EQ(c.rgba.size(), img.rgba.size());
+    bool grey = true;
+    for (std::size_t i = 0; i < c.rgba.size(); i += 4) {
+      ASSERT_EQ(c.rgba[i + 3], img.rgba[i + 3]) << "pixel " << i / 4;
+      if (c.rgba[i + 3] > 0) grey &= c.rgba[i] == c.rgba[i + 1] && c.rgba[i + 1] == c.rgba[i + 2];
+    }
+    EXPECT_EQ(grey, color == "flat");
+  }
+  expect_detail(get(tile, {{"color", "hue"}}), 400, "invalid_argument", "color",
+                "color 'hue' is not one of length, direction, density, displacement, flat");
 }
 
 TEST_F(BundlesTest, RequestErrorsNameTheField) {

@@ -12,7 +12,8 @@ cleanup() { [ -n "$SERVER_PID" ] && kill -9 "$SERVER_PID" 2>/dev/null; rm -rf "$
 trap cleanup EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/../support/cli_checks.sh"
 
-# KLM1: three samples near Amsterdam, then a jump of 10° north in 60 s (split into a second flight).
+# KLM1: three samples near Amsterdam, then a jump of 10° north in 60 s confirmed by the sample after it
+# (a teleport: split into a second flight).
 # DLH2: two samples at Frankfurt. "A,B" is a callsign with a comma (quoted in the CSV).
 cat > "$TMP/x.csv" <<'CSV'
 time,icao24,lat,lon,velocity,heading,vertrate,callsign,onground,baroaltitude
@@ -20,6 +21,7 @@ time,icao24,lat,lon,velocity,heading,vertrate,callsign,onground,baroaltitude
 1514764860,4ca1d0,52.1,4.1,210,350,,KLM1,false,1500
 1514764920,4ca1d0,52.2,4.2,220,350,0,KLM1,false,2000
 1514764980,4ca1d0,62.2,4.2,220,350,0,KLM1,false,2000
+1514765040,4ca1d0,62.3,4.3,220,350,0,KLM1,false,2000
 1514764800,3c6444,50,8,0,0,0,DLH2,true,100
 1514765400,3c6444,50,8,0,0,0,DLH2,true,
 CSV
@@ -31,7 +33,7 @@ e() { "$BIN" export x --data-dir "$TMP/data" "$@"; }
 e --format csv > "$TMP/cli.csv"
 check "csv exit" 0 $?
 check "csv header" "flight_id,icao24,callsign,t,lat,lon,alt_m,speed_ms,track_deg,vrate_ms,on_ground" "$(head -1 "$TMP/cli.csv")"
-check "csv rows" 7 "$(wc -l < "$TMP/cli.csv")"
+check "csv rows" 8 "$(wc -l < "$TMP/cli.csv")"
 # Flight ids by start time, then icao24: DLH2 (3c6444) is 0, KLM1's legs 1 and 2.
 check "csv unknown altitude is empty" "0,3c6444,DLH2,1514765400,50,8,,0,0,0,1" "$(sed -n 3p "$TMP/cli.csv")"
 check "csv second leg after the jump" "2,4ca1d0,KLM1,1514764980,62.2,4.2,2000,220,350,0,0" "$(sed -n 7p "$TMP/cli.csv")"
@@ -39,21 +41,21 @@ e --format csv --t0 1514764860 --t1 1514764921 --callsign KLM > "$TMP/w.csv"
 check "csv window rows" 3 "$(wc -l < "$TMP/w.csv")"
 e > "$TMP/cli.geojson"
 check "geojson features" 3 "$(json 'len(d["features"])' < "$TMP/cli.geojson")"
-check "geojson points" 6 "$(json 'd["points"]' < "$TMP/cli.geojson")"
+check "geojson points" 7 "$(json 'd["points"]' < "$TMP/cli.geojson")"
 check "geojson KLM1 first leg" "[[4.0, 52.0, 1000.0], [4.099999904632568, 52.099998474121094, 1500.0], [4.199999809265137, 52.20000076293945, 2000.0]]" \
   "$(json '[f["geometry"]["coordinates"] for f in d["features"] if f["properties"]["callsign"] == "KLM1"][0]' < "$TMP/cli.geojson")"
 e -o "$TMP/out.csv" --format csv --json > "$TMP/report.json"
-check "--out report" "3 6" "$(json '" ".join(str(d[k]) for k in ("flights", "points"))' < "$TMP/report.json")"
+check "--out report" "3 7" "$(json '" ".join(str(d[k]) for k in ("flights", "points"))' < "$TMP/report.json")"
 check "--out file equals stdout" same "$(cmp -s "$TMP/out.csv" "$TMP/cli.csv" && echo same || echo differ)"
 "$BIN" query summary x --data-dir "$TMP/data" --csv --table top_callsigns > "$TMP/top.csv"
-check "summary csv" "callsign,flights,points|KLM1,2,4|DLH2,1,2" "$(paste -sd'|' "$TMP/top.csv")"
+check "summary csv" "callsign,flights,points|KLM1,2,5|DLH2,1,2" "$(paste -sd'|' "$TMP/top.csv")"
 
 e --format kml 2> "$TMP/err" > /dev/null
 check "bad format exits 2" 2 $?
 check "bad format message" "trailscope: format must be 'geojson' or 'csv', got 'kml'" "$(cat "$TMP/err")"
 e --max-points 5 2> "$TMP/err" > /dev/null
 check "too many points exits 2" 2 $?
-check "too many points message" "trailscope: the window holds 6 points, more than max_points=5: narrow the window or the filters" "$(cat "$TMP/err")"
+check "too many points message" "trailscope: the window holds 7 points, more than max_points=5: narrow the window or the filters" "$(cat "$TMP/err")"
 e --json 2> "$TMP/err" > /dev/null
 check "--json without --out exits 2" 2 $?
 "$BIN" export --help > "$TMP/help.txt"

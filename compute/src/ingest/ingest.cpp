@@ -35,14 +35,22 @@ nlohmann::json IngestReport::to_json() const {
                              {"value", e.value},
                              {"value_kt", e.value / kKnot}});
              q["jump_splits"] = {{"count", jump_splits.count}, {"examples", std::move(ex)}};
+             nlohmann::json legs = nlohmann::json::array();
+             for (const auto& e : leg_splits.examples)
+               legs.push_back({{"flight_id", e.flight_id},
+                               {"callsign", e.callsign},
+                               {"t", e.t},
+                               {"value", e.value},
+                               {"value_h", e.value / 3600}});
+             q["leg_splits"] = {{"count", leg_splits.count}, {"examples", std::move(legs)}};
              return q;
            }()}};
 }
 
 namespace {
 
-// The jump splits with the largest implied speeds, each named by the flight that starts after it (the
-// flight of that aircraft whose first sample is the jump's).
+// The splits with the largest values (implied speed, or gap), each named by the flight that starts after it
+// (the flight of that aircraft whose first sample is the split's).
 QualityCount jump_split_report(const TrailSet& set, std::vector<TrailSetBuilder::Stats::Jump> jumps) {
   QualityCount out;
   out.count = jumps.size();
@@ -111,9 +119,7 @@ TrailSet ingest_source(detail::ByteSource& src, const IngestOptions& opts, Inges
 
   if (opts.progress) opts.progress(0.0, "assemble");
   TrailSetBuilder::Stats stats;
-  TrailSet set = builder.build(
-      &stats, ctx.gap_seconds,
-      opts.split_jumps.value_or(false) ? kMaxPlausibleSpeedMs : std::numeric_limits<double>::infinity());
+  TrailSet set = builder.build(&stats, ctx.gap_seconds, opts.split_jumps.value_or(true));
   if (opts.cancel) opts.cancel->throw_if_cancelled();
   if (opts.progress) opts.progress(1.0, "assemble");
 
@@ -122,6 +128,7 @@ TrailSet ingest_source(detail::ByteSource& src, const IngestOptions& opts, Inges
   rep.points = set.num_points();
   rep.quality = check_quality(set, Query{});
   rep.jump_splits = jump_split_report(set, stats.jumps);
+  rep.leg_splits = jump_split_report(set, stats.legs);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (report) *report = std::move(rep);
   return set;

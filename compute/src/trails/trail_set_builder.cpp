@@ -59,7 +59,7 @@ void TrailSetBuilder::add(std::string_view icao24, std::string_view callsign, co
   ++samples_;
 }
 
-TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, double jump_speed_ms) {
+TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, bool split_jumps) {
   if (gap_seconds <= 0) gap_seconds = limits::kFlightGapSeconds;
   if (samples_ > std::numeric_limits<std::uint32_t>::max())
     throw Error(Error::Kind::payload_too_large, "", "a dataset holds at most 2^32-1 points");
@@ -72,6 +72,7 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, double jump_sp
     std::size_t b, e;
   };
   std::vector<Piece> pieces;
+  std::vector<double> since;
   pieces.reserve(groups_.size());
   for (auto& [key, samples] : groups_) {
     // Stable sort keeps the first of equal-time samples, which is the one kept below.
@@ -87,28 +88,46 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, double jump_sp
     }
     samples.resize(w);
     std::size_t b = 0;
-    double since = samples.empty() ? 0.0 : samples[0].t;  // first report of samples[i - 1]'s position
+    // since[i]: the first report of samples[i]'s position (a stale repeat counts from there).
+    since.resize(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i)
+      since[i] = i > 0 && samples[i].lat == samples[i - 1].lat && samples[i].lon == samples[i - 1].lon
+                     ? since[i - 1]
+                     : samples[i].t;
+    // A step x→y (x < y) no aircraft flies, by the splitting thresholds (trails/quality.hpp).
+    auto impossible = [&](std::size_t x, std::size_t y) {
+      const Sample &p = samples[x], &q = samples[y];
+      const double d = great_circle_m(p.lat, p.lon, q.lat, q.lon);
+      return d >= kJumpSplitMinDistanceM && d / std::max(q.t - since[x], kMinJumpSeconds) > kJumpSplitSpeedMs;
+    };
     for (std::size_t i = 1; i <= samples.size(); ++i) {
-      bool split = i == samples.size() || samples[i].t - samples[i - 1].t > gap_seconds, jump = false;
-      if (!split && jump_speed_ms < std::numeric_limits<double>::infinity()) {
-        const Sample &a = samples[i - 1], &c = samples[i];
-        const double v = implied_speed_ms(since, a.lat, a.lon, c.t, c.lat, c.lon);
-        if (v > jump_speed_ms) {
-          split = jump = true;
-          ++local.jump_splits;
-          local.jumps.push_back({key.icao24, key.callsign, c.t, v});
+      const std::size_t n = samples.size();
+      bool split = i == n || samples[i].t - samples[i - 1].t > gap_seconds, counted = false;
+      if (!split && split_jumps) {
+        if (samples[i].t - samples[i - 1].t > kLegGapSeconds) {
+          // A leg is at least two samples: a lone sample beyond the gap (an SO6 segment whose clock
+          // wrapped at midnight) is not a leg and stays.
+          if (i - b >= 2 && i + 1 < n && samples[i + 1].t - samples[i].t <= kLegGapSeconds) {
+            split = counted = true;
+            local.legs.push_back({key.icao24, key.callsign, samples[i].t, samples[i].t - samples[i - 1].t});
+          }
+        } else if (i >= 2 && i + 1 < n && impossible(i - 1, i) && impossible(i - 1, i + 1) &&
+                   impossible(i - 2, i) && !impossible(i, i + 1) && !impossible(i - 2, i - 1)) {
+          split = counted = true;
+          const Sample &a = samples[i - 1], &c = samples[i];
+          local.jumps.push_back({key.icao24, key.callsign, c.t,
+                                 implied_speed_ms(since[i - 1], a.lat, a.lon, c.t, c.lat, c.lon)});
         }
       }
       if (split) {
         pieces.push_back({samples[b].t, &key, &samples, b, i});
-        if (i != samples.size() && !jump) ++local.splits;
+        if (i != n && !counted) ++local.splits;
         b = i;
       }
-      if (i < samples.size() &&
-          (samples[i].lat != samples[i - 1].lat || samples[i].lon != samples[i - 1].lon))
-        since = samples[i].t;
     }
   }
+  local.jump_splits = local.jumps.size();
+  local.leg_splits = local.legs.size();
   std::sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {
     return std::tie(a.t0, a.key->icao24, a.key->callsign, a.b) <
            std::tie(b.t0, b.key->icao24, b.key->callsign, b.b);

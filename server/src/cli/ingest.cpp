@@ -31,7 +31,9 @@ void add_ingest(CLI::App& app) {
   cmd->add_flag("--json", o->json, "print the dataset and its ingest report as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->add_option("--split-jumps", o->split_jumps,
-                  "true | false: split flights at position jumps implying more than 800 kt (default false)");
+                  "true | false: split flights that are two legs (a gap over 20 h) or teleport (a confirmed "
+                  "jump of 50 km or "
+                  "more beyond 1600 kt) (default true)");
   cmd->callback([o] {
     server::IngestRequest req;
     req.file = o->file;
@@ -60,8 +62,8 @@ void add_ingest(CLI::App& app) {
         std::cout << "implausible: " << (*q)["speed"]["count"] << " ground speeds over "
                   << (*q)["limits"]["speed_kt"] << " kt, " << (*q)["altitude"]["count"]
                   << " altitudes over FL" << (*q)["limits"]["altitude_fl"] << ", " << (*q)["jumps"]["count"]
-                  << " position jumps; " << (*q)["jump_splits"]["count"] << " flights split at jumps"
-                  << std::endl;
+                  << " position jumps; " << (*q)["jump_splits"]["count"] << " flights split at jumps, "
+                  << (*q)["leg_splits"]["count"] << " between legs" << std::endl;
     }
   });
 }

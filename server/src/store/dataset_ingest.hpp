@@ -16,7 +16,7 @@ struct IngestRequest {
   std::string name;                   ///< dataset id (validated)
   std::optional<std::string> format;  ///< a format name; detected from content when absent
   std::string owner;                  ///< the owner name the dataset records ("" from the CLI)
-  /// Split flights at impossible position jumps (ingest::IngestOptions::split_jumps; unset: off).
+  /// Split flights between legs and at teleports (ingest::IngestOptions::split_jumps; unset: on).
   std::optional<bool> split_jumps;
   /// Called with the assembled dataset before it is written; a throw (a disk budget's 507) stops the
   /// ingest with nothing written.

@@ -83,8 +83,15 @@ void check_sample_file(const char* name, std::size_t records, std::size_t points
 TEST(TrafficJson, Belevingsvlucht) {
   // One flight of 16,005 points with no gap over 30 min, so gap splitting leaves it whole.
   check_sample_file("traffic_sample_belevingsvlucht.json.gz", 16005, 16005);
-  const TrailSet set = ingest_file(shared_data("flights/traffic_sample_belevingsvlucht.json.gz").string());
+  // A slow sightseeing flight whose position reports are noisy enough to show position jumps over 800 kt,
+  // none of which is a teleport or a gap between legs: the default splitting leaves it whole.
+  IngestReport rep;
+  const TrailSet set =
+      ingest_file(shared_data("flights/traffic_sample_belevingsvlucht.json.gz").string(), {}, &rep);
   ASSERT_EQ(set.num_flights(), 1u);
+  EXPECT_GT(rep.quality.jumps.count, 100u);
+  EXPECT_EQ(rep.jump_splits.count, 0u);
+  EXPECT_EQ(rep.leg_splits.count, 0u);
   EXPECT_EQ(set.flights()[0].icao24, "484506");
   EXPECT_EQ(set.flights()[0].callsign, "TRA051");
   // First record: {"timestamp":1527693698000,"latitude":52.3239704714,"longitude":4.7394234794,

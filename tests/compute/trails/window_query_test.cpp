@@ -43,9 +43,14 @@ const std::vector<RawPoint>& raw_points() {
   return pts;
 }
 
+// The day's flights as the file delimits them (one per flight_id, split_jumps off): the counts here are by
+// flight_id (the default split between legs and at teleports is checked in tests/server/quality_test.cpp).
 const TrailSet& europe() {
-  static const TrailSet set =
-      ingest::ingest_file(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz").string());
+  static const TrailSet set = [] {
+    ingest::IngestOptions opts;
+    opts.split_jumps = false;
+    return ingest::ingest_file(test::shared_data("flights/traffic_europe_20180101_m3.so6.gz").string(), opts);
+  }();
   return set;
 }
 

@@ -149,8 +149,10 @@ export const api = {
 };
 
 /** XYZ template of a bundle's map tiles over `dataset` at `relaxation`. */
-export function bundleTileTemplate(origin: string, dataset: string, bundle: string, relaxation: number): string {
+export function bundleTileTemplate(origin: string, dataset: string, bundle: string, relaxation: number, color = 'length'): string {
   const q = new URLSearchParams({ relaxation: relaxation.toFixed(2) });
+  // The tiles' default colour (length) is left out, so its URLs (and cached tiles) stay as they were.
+  if (color !== 'length') q.set('color', color);
   return `${origin}/tiles/${encodeURIComponent(dataset)}/bundle/${encodeURIComponent(bundle)}/{z}/{x}/{y}.png?${q.toString()}`;
 }
 

@@ -7,8 +7,8 @@ import { buildQuery, validateFilters } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { blendSource, decodeTsbl } from './tsbl';
-import { cubuRainbow, kmPerMercatorDegree, linearTicks, renderLegend, type LegendSpec } from '../lib/legend';
-import { formatInt } from '../lib/format';
+import { BUNDLE_COLORS, bundleLegend, kmPerMercatorDegree, renderLegend, type BundleColor, type LegendSpec } from '../lib/legend';
+import { COLORMAP_STOPS } from '../lib/colors';
 import type { BundleOverlay } from './bundleOverlay';
 import type { Store } from './state';
 import type { ErrorSlots } from './errors';
@@ -36,6 +36,10 @@ export class BundlePanel {
   private madeFrom: string | null = null;
   private readonly staleBox: HTMLElement;
   private readonly legendBox: HTMLElement;
+  private readonly colorSelect: HTMLSelectElement;
+  private color: BundleColor = 'length';
+  /** The loaded bundle's trail lengths (TSBL, Mercator degrees), for the length legend. */
+  private lengths: ArrayLike<number> = [];
   /** The bundle legend shown (the PNG export draws it in bundled mode). */
   legendSpec: LegendSpec | null = null;
   private pendingBundle: string | null = null;
@@ -87,6 +91,18 @@ export class BundlePanel {
       this.applyTilesSoon();
     });
     this.legendBox = h('div', { class: 'bundle-legend' });
+    this.colorSelect = h(
+      'select',
+      { id: 'bundle-color', 'data-testid': 'bundle-color', 'aria-label': 'Colour bundled trails by' },
+      ...BUNDLE_COLORS.map((c) => h('option', { value: c }, c === 'flat' ? 'flat (one colour)' : c)),
+    );
+    // The tiles colour on the server (the color parameter of the bundle tiles); the legend follows at once.
+    this.colorSelect.addEventListener('change', () => {
+      this.color = this.colorSelect.value as BundleColor;
+      this.root.dataset.color = this.color;
+      this.showLegend();
+      this.applyLayers();
+    });
     this.viewBox = h(
       'div',
       { class: 'bundle-view', hidden: true },
@@ -98,6 +114,8 @@ export class BundlePanel {
       ),
       h('label', { class: 'field-label', for: 'bundle-relaxation' }, 'Relaxation', h('span', { class: 'hint' }, 'bundled → raw'), this.sliderValue),
       this.slider,
+      h('label', { class: 'field-label', for: 'bundle-color' }, 'Colour by'),
+      this.colorSelect,
       this.legendBox,
     );
     const recompute = h('button', { type: 'button', class: 'link-button', 'data-testid': 'bundle-recompute' }, 'Recompute');
@@ -265,7 +283,8 @@ export class BundlePanel {
       this.syncStale();
       const tsbl = decodeTsbl(buf);
       this.overlay.setSource(blendSource(tsbl));
-      this.showLegend(tsbl.length);
+      this.lengths = tsbl.length;
+      this.showLegend();
       this.showResult(meta);
       this.root.dataset.bundle = meta.id;
       this.viewBox.hidden = false;
@@ -277,11 +296,13 @@ export class BundlePanel {
   }
 
   /**
-   * The bundle tiles' colour legend (colour by length, the tiles' default): CUBu's rainbow from the
-   * shortest to the longest trail of the bundle, in km (TSBL lengths are Mercator degrees: scaled at the
-   * view's latitude, hence "≈").
+   * The legend of the bundle tiles' colour mode (lib/legend.ts bundleLegend): by length CUBu's rainbow from
+   * the shortest to the longest trail of the bundle, in km (TSBL lengths are Mercator degrees: scaled at the
+   * view's latitude, hence "≈"); by direction the bearings; by density and displacement the colour map over
+   * their normalised ranges; flat none.
    */
-  private showLegend(lengths: ArrayLike<number>) {
+  private showLegend() {
+    const lengths = this.lengths;
     let lo = Infinity;
     let hi = -Infinity;
     for (let i = 0; i < lengths.length; i++) {
@@ -291,20 +312,16 @@ export class BundlePanel {
         hi = Math.max(hi, v);
       }
     }
-    if (!(hi >= lo)) {
-      this.legendSpec = null;
+    const k = kmPerMercatorDegree(this.map.map.getCenter().lat);
+    const md = Number(this.bundle?.params['max_displacement'] ?? this.inputs.get('max_displacement')?.el.value ?? NaN);
+    this.legendSpec = bundleLegend(this.color, { loKm: lo * k, hiKm: hi * k, maxDisplacement: md, cmap: COLORMAP_STOPS.viridis, width: 200 });
+    this.legendBox.dataset.color = this.color;
+    if (!this.legendSpec) {
       mount(this.legendBox);
+      delete this.legendBox.dataset.testid;
+      this.legendBox.classList.remove('value-legend');
       return;
     }
-    const k = kmPerMercatorDegree(this.map.map.getCenter().lat);
-    this.legendSpec = {
-      title: 'Bundle colour: trail length (km)',
-      stops: Array.from({ length: 11 }, (_, i) => cubuRainbow(i / 10)),
-      ticks: linearTicks(lo * k, hi * k, 4, (v) => `≈${formatInt(v)}`),
-      width: 200,
-      testid: 'bundle-legend',
-      note: 'shortest → longest trail of this bundle',
-    };
     renderLegend(this.legendBox, this.legendSpec);
     this.legendBox.dataset.loKm = String(lo * k);
     this.legendBox.dataset.hiKm = String(hi * k);
@@ -334,7 +351,7 @@ export class BundlePanel {
     const d = this.store.dataset();
     const bundled = this.mode === 'bundled' && this.bundle !== null && d !== null && this.bundle.source.dataset === d.id;
     this.map.setDensityShown(!bundled);
-    this.map.setBundleTiles(bundled ? bundleTileTemplate(window.location.origin, d!.id, this.bundle!.id, this.relaxation) : null);
+    this.map.setBundleTiles(bundled ? bundleTileTemplate(window.location.origin, d!.id, this.bundle!.id, this.relaxation, this.color) : null);
     this.overlay.setVisible(bundled);
   }
 

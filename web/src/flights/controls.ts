@@ -225,7 +225,7 @@ function datasetMeta(d: Dataset): HTMLElement {
   );
 }
 
-/** The ingest report's data-quality line: implausible values found and flights split at impossible jumps. */
+/** The ingest report's data-quality line: implausible values found and flights split between legs and at teleports. */
 function ingestQuality(d: Dataset): HTMLElement | null {
   const q = (d.ingest as { quality?: Record<string, { count?: number } | undefined> } | undefined)?.quality;
   if (!q) return null;
@@ -234,11 +234,12 @@ function ingestQuality(d: Dataset): HTMLElement | null {
     [n('speed'), 'speeds'],
     [n('altitude'), 'altitudes'],
     [n('jumps'), 'jumps'],
-    [n('jump_splits'), 'split at jumps'],
+    [n('jump_splits'), 'split at teleports'],
+    [n('leg_splits'), 'split between legs'],
   ].filter(([c]) => (c as number) > 0);
   return h(
     'div',
-    { class: 'hint', 'data-testid': 'dataset-quality', 'data-speed': String(n('speed')), 'data-altitude': String(n('altitude')), 'data-jumps': String(n('jumps')), 'data-splits': String(n('jump_splits')) },
+    { class: 'hint', 'data-testid': 'dataset-quality', 'data-speed': String(n('speed')), 'data-altitude': String(n('altitude')), 'data-jumps': String(n('jumps')), 'data-splits': String(n('jump_splits')), 'data-leg-splits': String(n('leg_splits')) },
     parts.length ? `Ingest flagged: ${parts.map(([c, l]) => `${formatInt(c as number)} ${l}`).join(' · ')}` : 'Ingest: no implausible values',
   );
 }

@@ -77,6 +77,8 @@ export class TimeBrush {
   private width = 0;
   private height = 0;
   private drag: { mode: DragMode | 'cursor'; startT: number; startX: number; startWin: Span | null; moved: boolean } | null = null;
+  /** Touch pointers down on the plot: a second one makes the gesture a pinch (d3-zoom's), not a brush drag. */
+  private readonly touches = new Set<number>();
   private cursor: number | null = null;
   private cursorEl: SVGGElement | null = null;
   private state: 'empty' | 'loading' | 'ready' | 'error' = 'empty';
@@ -114,7 +116,7 @@ export class TimeBrush {
         this.typedError,
         zoomWin,
         zoomAll,
-        h('span', { class: 'brush-hint', title: 'Drag to select (one-second resolution) · double-click clears · wheel or pinch zooms the axis, +/−/0 keys too · ←/→ nudge the window, Shift+←/→ its end, Alt+←/→ its start' }, 'wheel: zoom · ←/→ nudge'),
+        h('span', { class: 'brush-hint', title: 'Drag to select (one-second resolution) · double-click clears · wheel or pinch zooms the axis, +/−/0 keys too · ←/→ nudge the window, Shift+←/→ its end, Alt+←/→ its start' }, 'wheel or pinch: zoom · ←/→ nudge'),
       ),
     );
     this.plot = h('div', {
@@ -132,9 +134,16 @@ export class TimeBrush {
     root.append(this.plot);
 
     // d3-zoom drives the axis from the wheel and from two-finger pinches only: a one-finger or mouse drag
-    // is the brush's.
+    // is the brush's. A trackpad pinch arrives as a wheel event with ctrlKey set (Chromium, Firefox and
+    // Safari all send it so), which d3-zoom's wheel delta already scales ×10 like a browser zoom; a touch
+    // pinch comes as touch events with two touches, and its first finger's brush drag is cancelled when the
+    // second lands (onDown).
     this.zoomBehavior = zoom<HTMLElement, unknown>()
       .filter((e: Event) => e.type === 'wheel' || (e.type.startsWith('touch') && (e as TouchEvent).touches.length >= 2))
+      // Touch listeners always: d3-zoom otherwise attaches them only where the page saw touch support when
+      // it loaded (navigator.maxTouchPoints), and a touch screen attached later (or an emulated one) would
+      // get no pinch.
+      .touchable(() => true)
       .on('zoom', (e: D3ZoomEvent<HTMLElement, unknown>) => this.onZoom(e.transform.k, e.transform.x));
     select(this.plot).call(this.zoomBehavior).on('dblclick.zoom', null);
     // At a zoom limit d3-zoom lets the wheel through: it would scroll the page under the analyst's hand.
@@ -144,7 +153,10 @@ export class TimeBrush {
     this.plot.addEventListener('pointerdown', (e) => this.onDown(e));
     this.plot.addEventListener('pointermove', (e) => this.onMove(e));
     this.plot.addEventListener('pointerup', (e) => this.onUp(e));
-    this.plot.addEventListener('pointercancel', () => this.cancelDrag());
+    this.plot.addEventListener('pointercancel', (e) => {
+      this.touches.delete(e.pointerId);
+      this.cancelDrag();
+    });
     this.plot.addEventListener('pointerleave', () => (this.tooltip.hidden = true));
     this.plot.addEventListener('dblclick', (e) => {
       e.preventDefault();
@@ -303,6 +315,14 @@ export class TimeBrush {
   }
 
   private onDown(e: PointerEvent) {
+    if (e.pointerType === 'touch') {
+      this.touches.add(e.pointerId);
+      if (this.touches.size > 1) {
+        // A pinch: the first finger's drag gives the window back, and d3-zoom takes the gesture.
+        this.cancelDrag();
+        return;
+      }
+    }
     if (e.button !== 0 || !this.view || !this.hist) return;
     const x = this.localX(e);
     const cx = this.cursorX();
@@ -345,6 +365,7 @@ export class TimeBrush {
   }
 
   private onUp(e: PointerEvent) {
+    this.touches.delete(e.pointerId);
     const d = this.drag;
     if (!d) return;
     this.drag = null;
@@ -359,6 +380,7 @@ export class TimeBrush {
 
   private cancelDrag() {
     if (!this.drag) return;
+    this.plot.classList.remove('dragging');
     if (this.drag.mode === 'cursor') {
       this.drag = null;
       this.plot.classList.remove('dragging');

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { cubuRainbow, densityTicks, dropCrowded, kmPerMercatorDegree, linearTicks, normalizeSpan, type DensityLegendAnswer } from './legend';
+import { bearingColor, bundleLegend, cubuRainbow, densityTicks, hsvCss, dropCrowded, kmPerMercatorDegree, linearTicks, normalizeSpan, type DensityLegendAnswer } from './legend';
 
 /** A legend answer: span 1…10, stops at k/20 whose values are the quantiles the server computed. */
 const stops = Array.from({ length: 21 }, (_, k) => ({ t: k / 20, value: 1 + (9 * (k / 20)) ** 2 / 9, color: '#000000' }));
@@ -78,5 +78,45 @@ describe('cubuRainbow and Mercator lengths', () => {
   it('a Mercator degree is 111.32 km at the equator, half that at 60°', () => {
     expect(kmPerMercatorDegree(0)).toBeCloseTo(111.32, 9);
     expect(kmPerMercatorDegree(60)).toBeCloseTo(55.66, 9);
+  });
+});
+
+describe('bundle colour legends', () => {
+  const input = { loKm: 12, hiKm: 830, maxDisplacement: 0.2, cmap: ['#000000', '#ffffff'], width: 200 };
+  it('hsvCss is HSV → RGB (the standard sextant formulas)', () => {
+    expect(hsvCss(0, 1, 1)).toBe('rgb(255, 0, 0)');
+    expect(hsvCss(1 / 3, 1, 1)).toBe('rgb(0, 255, 0)');
+    expect(hsvCss(2 / 3, 1, 1)).toBe('rgb(0, 0, 255)');
+    expect(hsvCss(1.5, 0, 1)).toBe('rgb(255, 255, 255)');
+    expect(hsvCss(-0.25, 1, 1)).toBe(hsvCss(0.75, 1, 1));
+  });
+  it('direction: east is hue 0 (angle 0 in a y-down plane), north hue 3/4, south 1/4', () => {
+    expect(bearingColor(90)).toBe('rgb(255, 0, 0)');
+    // hue 3/4: sector 4 at f = 0.5 → (0.5, 0, 1)
+    expect(bearingColor(0)).toBe('rgb(128, 0, 255)');
+    expect(bearingColor(360)).toBe(bearingColor(0));
+    // hue 1/4: sector 1 at f = 0.5 → (0.5, 1, 0)
+    expect(bearingColor(180)).toBe('rgb(128, 255, 0)');
+    const spec = bundleLegend('direction', input)!;
+    expect(spec.ticks.map((t) => t.label)).toEqual(['N 0°', 'E 90°', 'S 180°', 'W 270°', 'N 360°']);
+    expect(spec.ticks.map((t) => t.at)).toEqual([0, 0.25, 0.5, 0.75, 1]);
+    expect(spec.stops[0]).toBe(spec.stops[spec.stops.length - 1]);
+  });
+  it('length: km ticks between the shortest and longest trail, placed linearly', () => {
+    const spec = bundleLegend('length', input)!;
+    for (const t of spec.ticks) {
+      const v = Number(t.label.replace(/[≈,]/g, ''));
+      expect(t.at).toBeCloseTo((v - 12) / (830 - 12), 9);
+    }
+    expect(spec.ticks.map((t) => t.label)).toEqual(['≈200', '≈400', '≈600', '≈800']);
+  });
+  it('density: 0 … 1 of the local maximum; displacement: 0 … 100·max_displacement % of the trail length', () => {
+    expect(bundleLegend('density', input)!.ticks.map((t) => t.label)).toEqual(['0', '0.20', '0.40', '0.60', '0.80', '1']);
+    const d = bundleLegend('displacement', input)!;
+    expect(d.ticks.map((t) => t.label)).toEqual(['0 %', '5 %', '10 %', '15 %', '20 %']);
+    expect(d.ticks.map((t) => t.at)).toEqual([0, 0.25, 0.5, 0.75, 1]);
+    expect(d.stops).toEqual(input.cmap);
+    expect(bundleLegend('displacement', { ...input, maxDisplacement: NaN })).toBeNull();
+    expect(bundleLegend('flat', input)).toBeNull();
   });
 });

@@ -220,3 +220,96 @@ export function cubuRainbow(v: number): string {
 export function kmPerMercatorDegree(lat: number): number {
   return 111.32 * Math.cos((lat * Math.PI) / 180);
 }
+
+/** The bundle tiles' colour modes (compute/include/trailscope/bundling/render.hpp ColorBy). */
+export type BundleColor = 'length' | 'direction' | 'density' | 'displacement' | 'flat';
+export const BUNDLE_COLORS: readonly BundleColor[] = ['length', 'direction', 'density', 'displacement', 'flat'];
+
+/** HSV (each 0 … 1, hue wrapping) → CSS, the mirror of render_math.cpp `hsv_to_rgb`. */
+export function hsvCss(hue: number, s: number, v: number): string {
+  const h = hue - Math.floor(hue);
+  const sat = Math.min(1, Math.max(0, s));
+  const val = Math.min(1, Math.max(0, v));
+  const h6 = h * 6;
+  const sector = Math.min(5, Math.floor(h6));
+  const f = h6 - sector;
+  const p = val * (1 - sat), q = val * (1 - sat * f), t = val * (1 - sat * (1 - f));
+  const rgb = [[val, t, p], [q, val, p], [p, val, t], [p, q, val], [t, p, val], [val, p, q]][sector]!;
+  const ch = (c: number) => Math.round(c * 255);
+  return `rgb(${ch(rgb[0]!)}, ${ch(rgb[1]!)}, ${ch(rgb[2]!)})`;
+}
+
+/**
+ * The colour the direction mode gives a trail heading at compass bearing `deg` (clockwise from north). The
+ * tiles take hue = angle(end − start) / 2π in the Web Mercator plane, whose y grows southward: east is hue 0,
+ * south ¼, west ½, north ¾; the saturation is the trail's normalised length^0.3 (full for the longest).
+ */
+export function bearingColor(deg: number, saturation = 1): string {
+  return hsvCss((deg - 90) / 360, saturation, 1);
+}
+
+/** What a bundle colour legend needs to know of the bundle and the view. */
+export interface BundleLegendInput {
+  /** Shortest and longest trail, km (colour by length). */
+  loKm: number;
+  hiKm: number;
+  /** bundling max_displacement: the cap of a point's displacement, as a fraction of its trail's length. */
+  maxDisplacement: number;
+  /** Colour map of the density and displacement modes (the tiles' cmap). */
+  cmap: readonly string[];
+  width: number;
+}
+
+/**
+ * The legend of a bundle colour mode, ticks in the mode's units: length in km (shortest → longest trail of the
+ * bundle), direction as compass bearings of travel, density as a fraction of the local maximum (the tiles'
+ * locally normalised density ρn), displacement as a percentage of the trail's length (0 … max_displacement,
+ * the normalisation of render.cpp). Flat has one colour: null.
+ */
+export function bundleLegend(mode: BundleColor, b: BundleLegendInput): LegendSpec | null {
+  const fmtPct = (v: number) => `${Number.isInteger(v) ? v : v.toFixed(1)} %`;
+  switch (mode) {
+    case 'length':
+      if (!(b.hiKm >= b.loKm)) return null;
+      return {
+        title: 'Bundle colour: trail length (km)',
+        stops: Array.from({ length: 11 }, (_, i) => cubuRainbow(i / 10)),
+        ticks: linearTicks(b.loKm, b.hiKm, 4, (v) => `≈${formatInt(v)}`),
+        width: b.width,
+        testid: 'bundle-legend',
+        note: 'shortest → longest trail of this bundle',
+      };
+    case 'direction':
+      return {
+        title: 'Bundle colour: direction of travel (bearing)',
+        stops: Array.from({ length: 13 }, (_, i) => bearingColor(i * 30)),
+        ticks: [0, 90, 180, 270, 360].map((d) => ({ at: d / 360, label: `${['N', 'E', 'S', 'W', 'N'][d / 90]} ${d}°` })),
+        width: b.width,
+        testid: 'bundle-legend',
+        note: 'start → end of each trail; paler = shorter',
+      };
+    case 'density':
+      return {
+        title: 'Bundle colour: density (× local maximum)',
+        stops: b.cmap,
+        ticks: linearTicks(0, 1, 4, (v) => (v === 0 ? '0' : v === 1 ? '1' : v.toFixed(2))),
+        width: b.width,
+        testid: 'bundle-legend',
+        note: 'trails per pixel, normalised by the densest pixel nearby',
+      };
+    case 'displacement': {
+      const hi = 100 * b.maxDisplacement;
+      if (!(hi > 0)) return null;
+      return {
+        title: 'Bundle colour: displacement from the raw trail (% of its length)',
+        stops: b.cmap,
+        ticks: linearTicks(0, hi, 4, fmtPct),
+        width: b.width,
+        testid: 'bundle-legend',
+        note: `capped at max_displacement = ${b.maxDisplacement}`,
+      };
+    }
+    case 'flat':
+      return null;
+  }
+}

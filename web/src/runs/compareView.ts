@@ -22,6 +22,8 @@ const MISSED_COLOR = '#f472b6';
 export interface CompareViewOptions {
   onCursor(frame: number): void;
   onReplay?(runId: string): void;
+  /** The stale mark's one-click recompute. */
+  onRecompute?(): void;
 }
 
 /** Shared y ranges of the lanes: error (mm, the 98th percentile of finite values, 10..200), matches, cost. */
@@ -62,6 +64,8 @@ export class CompareView {
   private readonly disagreeEl: HTMLElement;
   private readonly diffEl: HTMLElement;
   private readonly note: HTMLElement;
+  private readonly staleBox: HTMLElement;
+  private readonly staleText: HTMLElement;
   private cmp: Comparison | null = null;
   private lanes: Lane[] = [];
   private multiples: AxisSurface[] = [];
@@ -72,6 +76,14 @@ export class CompareView {
   constructor(private readonly opts: CompareViewOptions) {
     this.head = h('span', { class: 'section-meta', 'data-testid': 'compare-meta' });
     this.note = h('p', { class: 'muted small compare-note', 'data-testid': 'compare-note' }, 'Select 2 to 8 runs of one video (table, projection or filter) to compare them.');
+    this.staleText = h('span', { class: 'small muted' });
+    this.staleBox = h(
+      'div',
+      { class: 'stale-line', 'data-testid': 'compare-stale', hidden: true, role: 'status' },
+      h('span', { class: 'stale-mark' }, 'stale'),
+      this.staleText,
+      h('button', { type: 'button', class: 'link-button', 'data-testid': 'compare-recompute', onclick: () => this.opts.onRecompute?.() }, 'Recompute'),
+    );
     this.lanesEl = h('div', { class: 'lanes', 'data-testid': 'compare-lanes', 'data-lanes': '0' });
     this.ticks = h('div', { class: 'frame-ticks lane-ticks', 'aria-hidden': 'true' });
     this.multiplesEl = h('div', { class: 'multiples', 'data-testid': 'compare-multiples' });
@@ -82,6 +94,7 @@ export class CompareView {
       'section',
       { class: 'runs-panel compare-panel', 'aria-label': 'Comparison of the selected runs', 'data-testid': 'compare', 'data-state': 'empty' },
       sectionHead('Comparison', this.head),
+      this.staleBox,
       this.note,
       h(
         'div',
@@ -128,6 +141,13 @@ export class CompareView {
   /** Colours of the runs (the projection's metric colours) for the lane labels. */
   setRunColors(colors: Map<string, string>): void {
     this.colors = colors;
+  }
+
+  /** Marks the comparison stale (its runs changed on the server since it was made), with why; null clears it. */
+  setStale(why: string | null): void {
+    this.staleBox.hidden = why === null;
+    this.staleText.textContent = why === null ? '' : ` ${why} `;
+    this.root.dataset.stale = String(why !== null);
   }
 
   clear(message: string): void {

@@ -18,6 +18,8 @@ export interface ScatterPoint {
 
 export interface ProjectionViewOptions {
   onSelect(ids: string[], add: boolean): void;
+  /** The stale mark's one-click recompute. */
+  onRecompute?(): void;
 }
 
 const RADIUS = 4;
@@ -30,6 +32,8 @@ export class ProjectionView {
   private readonly legend: HTMLElement;
   private readonly message: HTMLElement;
   private readonly lassoToggle: HTMLInputElement;
+  private readonly staleBox: HTMLElement;
+  private readonly staleText: HTMLElement;
   private points: ScatterPoint[] = [];
   private px: Pt[] = [];
   private fit: Fit | null = null;
@@ -65,10 +69,19 @@ export class ProjectionView {
     );
     this.legend = h('div', { class: 'scatter-legend', 'data-testid': 'projection-legend' });
     this.lassoToggle = h('input', { type: 'checkbox', 'data-testid': 'lasso-mode' });
+    this.staleText = h('span', { class: 'small muted' });
+    this.staleBox = h(
+      'div',
+      { class: 'stale-line', 'data-testid': 'projection-stale', hidden: true, role: 'status' },
+      h('span', { class: 'stale-mark' }, 'stale'),
+      this.staleText,
+      h('button', { type: 'button', class: 'link-button', 'data-testid': 'projection-recompute', onclick: () => this.opts.onRecompute?.() }, 'Recompute'),
+    );
     this.root = h(
       'section',
       { class: 'runs-panel projection-panel', 'aria-label': 'Projection' },
       sectionHead('Projection', controls),
+      this.staleBox,
       this.plot,
       h(
         'div',
@@ -106,6 +119,13 @@ export class ProjectionView {
     this.message.hidden = state === 'ready';
     this.message.textContent = message;
     this.message.classList.toggle('error-text', state === 'error');
+  }
+
+  /** Marks the projection stale (its inputs changed since it was made), with why; null clears the mark. */
+  setStale(why: string | null): void {
+    this.staleBox.hidden = why === null;
+    this.staleText.textContent = why === null ? '' : ` ${why} `;
+    this.plot.dataset.stale = String(why !== null);
   }
 
   setPoints(points: ScatterPoint[]): void {

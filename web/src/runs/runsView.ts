@@ -34,6 +34,9 @@ function select(label: string, testid: string, options: [string, string][], onCh
   return s;
 }
 
+/** How often the runs view asks whether its projection and comparison still match the server (ms). */
+const FRESH_CHECK_MS = 15_000;
+
 export class RunsView {
   readonly root: HTMLElement;
   private readonly table: RunsTable;
@@ -68,6 +71,9 @@ export class RunsView {
   private filter: Set<string> | null = null;
   private scale: ColorScale | null = null;
   private proj: Projection | null = null;
+  /** The runs (ids, sorted) and options the shown projection was made from (staleKey). */
+  private projectedKey = '';
+  private freshCtrl = new AbortController();
   private pick: ComparePick | null = null;
   /** The selection (ids joined) the pick was made from. */
   private pickFor = '';
@@ -136,7 +142,7 @@ export class RunsView {
     this.perplexityBox = h('label', { class: 'perplexity', hidden: true }, h('span', { class: 'small' }, 'perplexity'), this.perplexityInput, this.perplexityNote);
     const projectBtn = h('button', { class: 'btn btn-small', type: 'button', 'data-testid': 'project-button', onclick: () => void this.project() }, 'Project');
     this.projection = new ProjectionView(
-      { onSelect: (ids, add) => this.setSelection(ids, add) },
+      { onSelect: (ids, add) => this.setSelection(ids, add), onRecompute: () => void this.reload() },
       h('div', { class: 'proj-controls' }, this.methodSelect, this.includeSelect, this.perplexityBox, projectBtn),
     );
     this.pc = new ParallelCoords({
@@ -150,6 +156,7 @@ export class RunsView {
         this.writeHash();
       },
       onReplay: (id) => void this.replay(id),
+      onRecompute: () => void this.reload(),
     });
     this.quality = h('dl', { class: 'kv quality', 'data-testid': 'projection-quality' });
     this.sweepInfo = h('div', { class: 'muted small', 'data-testid': 'sweep-info' });
@@ -186,6 +193,9 @@ export class RunsView {
       ),
     );
     host.append(this.root);
+    window.addEventListener('focus', () => void this.checkFresh());
+    document.addEventListener('visibilitychange', () => document.visibilityState === 'visible' && void this.checkFresh());
+    window.setInterval(() => document.visibilityState === 'visible' && void this.checkFresh(), FRESH_CHECK_MS);
     (window as unknown as { __trailscopeRuns: unknown }).__trailscopeRuns = {
       state: () => this.debugState(),
       view: this,
@@ -251,6 +261,45 @@ export class RunsView {
   private async reload() {
     await this.loadLists();
     await this.setSweep(this.sweep, false, this.selection);
+    this.compare.setStale(null);
+  }
+
+  /** What a projection is made of: the runs it projects (ids, sorted), the method, the columns and perplexity. */
+  private staleKey(rows: readonly RunRow[]): string {
+    const ids = rows.map((r) => r.id).sort();
+    return JSON.stringify([ids, this.method, this.includeSelect.value, this.method === 'tsne' ? this.perplexity : null]);
+  }
+
+  /**
+   * Asks the server for its runs and marks the projection and the comparison stale when theirs changed since
+   * they were made: a sweep still running (or another client's) added runs to the projected set, or a compared
+   * run is gone. They are not recomputed behind the analyst's back (a projection of hundreds of runs takes a
+   * while and would move every point under the cursor); the mark's Recompute reloads and recomputes.
+   * Called when the window gains focus or becomes visible, while a sweep launched here runs, and every
+   * FRESH_CHECK_MS while the runs view shows.
+   */
+  async checkFresh(): Promise<void> {
+    if (!this.loaded || !isRunsHash(window.location.hash)) return;
+    this.freshCtrl.abort();
+    const ctrl = new AbortController();
+    this.freshCtrl = ctrl;
+    let runs: RunRow[];
+    try {
+      runs = await runsApi.runs(ctrl.signal);
+    } catch {
+      return; // a failed check changes nothing
+    }
+    if (ctrl.signal.aborted) return;
+    const now = this.sweep ? runs.filter((r) => r.sweep === this.sweep) : runs;
+    if (this.proj && this.projectedKey && this.staleKey(now) !== this.projectedKey) {
+      const had = this.proj.rows;
+      this.projection.setStale(`${now.length} runs on the server now, ${had} projected;`);
+    }
+    if (this.cmp) {
+      const ids = new Set(runs.map((r) => r.id));
+      const gone = this.cmp.series.map((s) => s.id).filter((id) => !ids.has(id));
+      if (gone.length) this.compare.setStale(`compared run${gone.length === 1 ? '' : 's'} ${gone.join(', ')} no longer on the server;`);
+    }
   }
 
   private async setSweep(sweep: string | null, user: boolean, sel: string[] = []) {
@@ -357,6 +406,7 @@ export class RunsView {
   }
 
   private async project() {
+    this.projection.setStale(null);
     this.projCtrl.c.abort();
     const ctrl = new AbortController();
     this.projCtrl.c = ctrl;
@@ -398,6 +448,8 @@ export class RunsView {
       const p = await runsApi.projection(body, ctrl.signal);
       if (ctrl.signal.aborted) return;
       this.proj = p;
+      this.projectedKey = this.staleKey(this.rows);
+      this.projection.setStale(null);
       this.setPoints();
       this.projection.setState('ready');
       this.renderQuality(p, performance.now() - t0);

@@ -26,8 +26,9 @@
 //    leg), vrate from the altitude difference over the time difference, on_ground is false; a derived
 //    speed above kMaxSpeed or |vrate| above kMaxVerticalRate (about 1.5 % of the Europe sample's points:
 //    one-point position spikes, clocks wrapping at midnight) is left NaN, the positions are kept. Gap
-//    splitting does not apply: flight_id already delimits a flight, and Douglas-Peucker simplified
-//    segments routinely last longer than limits::kFlightGapSeconds.
+//    splitting at gap_seconds does not apply: flight_id already delimits a flight, and Douglas-Peucker
+//    simplified segments routinely last longer than limits::kFlightGapSeconds; split_jumps does (one
+//    flight_id may carry two legs a day apart).
 //  - readsb_trace: t = base "timestamp" + dt; alt ft → m, or "ground" → on_ground with alt NaN (readsb
 //    sends no altitude on the ground, and 0 would claim sea level); flag 8 marks the altitude as geometric
 //    rather than barometric; it is kept as the best altitude the row has (the same fallback as OpenSky's
@@ -67,15 +68,19 @@ struct IngestReport {
   std::vector<Reject> rejects;  ///< first limits::kMaxReportedRejects rejected rows, in file order
   double seconds = 0;           ///< wall time of the whole ingest
   /// Implausible values in the resulting TrailSet (trails/quality.hpp): speeds, altitudes and the jumps
-  /// left when IngestOptions::split_jumps is off.
+  /// left after splitting (one-point spikes are never split, so they stay here).
   QualityReport quality;
-  /// Flights split at an impossible position jump (IngestOptions::split_jumps), with the largest jumps:
-  /// the flight that starts after each, its time and the implied speed (m/s).
+  /// Flights split at a teleport (IngestOptions::split_jumps), with the largest jumps: the flight that
+  /// starts after each, its time and the implied speed (m/s).
   QualityCount jump_splits;
+  /// Flights split between two legs, a gap over kLegGapSeconds (IngestOptions::split_jumps), longest
+  /// first: the flight that starts after each, its time and the gap (s).
+  QualityCount leg_splits;
 
   /// {"format", "rows", "accepted", "rejected", "duplicates", "flights", "points",
   ///  "rejects": [{"line", "reason"}...], "seconds", "quality": {QualityReport::to_json(), "jump_splits":
-  ///  {"count", "examples"}}}.
+  ///  {"count", "examples": [{"flight_id", "callsign", "t", "value", "value_kt"}]}, "leg_splits": {"count",
+  ///  "examples": [{"flight_id", "callsign", "t", "value" (s), "value_h"}]}}}.
   nlohmann::json to_json() const;
 };
 
@@ -85,10 +90,11 @@ struct IngestOptions {
   /// Consecutive samples of one aircraft further apart than this (seconds, > 0) start a new flight.
   /// Not used for SO6 (see above).
   double gap_seconds = limits::kFlightGapSeconds;
-  /// Split a flight where consecutive samples imply a speed above kMaxPlausibleSpeedMs (a position jump,
-  /// trails/quality.hpp). Unset: off for every format (jumps are reported in IngestReport::quality but
-  /// kept): the per-step criterion still cuts real position reports apart (the traffic library's
-  /// Belevingsvlucht sample into 172 pieces), so splitting is asked for, not the default, until it does not.
+  /// Split a flight where it is two legs or teleports (the rule in trails/quality.hpp: a gap over 20 h, or
+  /// a confirmed step of at least 50 km beyond 1600 kt; TrailSetBuilder::build). Unset: on for every
+  /// format, all of them positional. The rule leaves real position reports whole (the traffic library's
+  /// Belevingsvlucht, Zurich and Airbus samples: no split) and one-point spikes in place (still counted in
+  /// IngestReport::quality.jumps); false keeps every flight as the reader grouped it.
   std::optional<bool> split_jumps;
   /// Called on the caller's thread with (fraction of the compressed file consumed, "parse") about every
   /// 65,536 rows and (1, "parse") when parsing ends, then (0, "assemble") and (1, "assemble") around

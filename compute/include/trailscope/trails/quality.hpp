@@ -12,6 +12,24 @@
 //    previous one. Position reports repeat a stale position for seconds and then catch up (OpenSky's
 //    state vectors between position updates); measured from the last repeat, every catch-up would look
 //    like a jump, so the time counts from the repeated position's first report.
+// Splitting a flight (TrailSetBuilder::build with split_jumps, on by default at ingest) is stricter than
+// flagging, because a split is not undone by a look at the map: ordinary noise must never cut a flight.
+// Between consecutive samples a (index i-1) and b (index i) a flight is split when
+//  - two legs: b comes more than kLegGapSeconds (20 h) after a. No flight in service lasts that long (the
+//    longest scheduled non-stop, Singapore–New York, is about 19 h), so this is the next use of the same id
+//    (the Europe SO6 day's AFR116: a departure at 00:00 and the next day's at 22:58 under one flight id).
+//    It is the time-gap rule of the traffic library's Flight.split() (X. Olive, "traffic, a toolbox for
+//    processing and analysing air traffic data", JOSS 2019: split where no sample came for a given time),
+//    with a gap long enough for SO6, whose Douglas-Peucker segments routinely last hours. A leg is at least
+//    two samples: a lone sample beyond such a gap (an SO6 segment whose clock wrapped at midnight) stays;
+//  - a teleport: the step a→b is impossible and the samples on both sides of it agree with their own side:
+//    a "step x→y is impossible" when it is at least kJumpSplitMinDistanceM (50 km) long AND implies more
+//    than kJumpSplitSpeedMs (twice the 800 kt flag, time from the first report of x's position). Required:
+//    a→b, a→c and a'→b impossible (a' = sample i-2, c = sample i+1), a'→a and b→c not. The distance floor
+//    keeps GPS jitter between samples seconds apart from ever splitting (at 1 s, 800 kt is only 412 m),
+//    and the confirmation on both sides keeps a one-point spike (out and back, the common SO6 glitch: a→b
+//    and b→c both impossible, a→c fine) and a glitch at either end of a flight in one piece: those stay
+//    flagged as jumps, not split. No split ever leaves a flight of one sample.
 // Distances are on the sphere of radius kEarthMeanRadiusM (haversine; the mean radius of WGS84, IUGG),
 // whose error against the ellipsoid (< 0.5 %) is far below the margin of the speed limit.
 #include <cstdint>
@@ -25,11 +43,14 @@
 
 namespace trailscope {
 
-inline constexpr double kKnot = 1852.0 / 3600.0;                  ///< m/s per knot
-inline constexpr double kMaxPlausibleSpeedMs = 800.0 * kKnot;     ///< 800 kt ≈ 411.6 m/s
-inline constexpr double kMaxPlausibleAltitudeM = 60000 * 0.3048;  ///< FL600 = 18,288 m
-inline constexpr double kMinJumpSeconds = 1.0;                    ///< time step floor of a jump's speed
-inline constexpr double kEarthMeanRadiusM = 6371008.8;            ///< IUGG mean radius of WGS84
+inline constexpr double kKnot = 1852.0 / 3600.0;                       ///< m/s per knot
+inline constexpr double kMaxPlausibleSpeedMs = 800.0 * kKnot;          ///< 800 kt ≈ 411.6 m/s
+inline constexpr double kMaxPlausibleAltitudeM = 60000 * 0.3048;       ///< FL600 = 18,288 m
+inline constexpr double kMinJumpSeconds = 1.0;                         ///< time step floor of a jump's speed
+inline constexpr double kJumpSplitSpeedMs = 2 * kMaxPlausibleSpeedMs;  ///< 1600 kt: a teleport's speed
+inline constexpr double kJumpSplitMinDistanceM = 50e3;                 ///< a teleport is at least 50 km
+inline constexpr double kLegGapSeconds = 20 * 3600.0;                  ///< a gap this long separates two legs
+inline constexpr double kEarthMeanRadiusM = 6371008.8;                 ///< IUGG mean radius of WGS84
 /// Examples listed per kind of issue (the largest values; all are counted).
 inline constexpr std::size_t kQualityExamples = 10;
 

@@ -40,24 +40,25 @@ class TrailSetBuilder {
     std::size_t duplicates =
         0;  ///< samples dropped because an identical-time sample of the same aircraft came first
     std::size_t splits = 0;  ///< extra flights created by gaps > kFlightGapSeconds
-    /// Extra flights created by position jumps (see build()), each with the sample that starts the new
-    /// flight: its aircraft, time and the speed the jump implies (m/s).
-    std::size_t jump_splits = 0;
+    /// Extra flights created by teleports and by gaps between two legs (see build()), each with the sample
+    /// that starts the new flight: its aircraft, time and, for a teleport, the speed the jump implies
+    /// (m/s), for two legs the gap (s).
+    std::size_t jump_splits = 0, leg_splits = 0;
     struct Jump {
       std::string icao24, callsign;
-      double t = 0, speed_ms = 0;
+      double t = 0, speed_ms = 0;  ///< speed_ms: m/s for jumps, the gap in seconds for legs
     };
-    std::vector<Jump> jumps;
+    std::vector<Jump> jumps, legs;
   };
 
   /// Builds the TrailSet; flights are ordered by start time (then icao24, callsign), so that flights
   /// near in time are near in memory. Leaves the builder empty. `gap_seconds` overrides the split gap;
   /// <= 0 means limits::kFlightGapSeconds, +infinity never splits (SO6, whose flights carry their own ids).
-  /// `jump_speed_ms` (> 0; +infinity never splits) also splits where consecutive samples imply a speed
-  /// above it (implied_speed_ms, trails/quality.hpp): a position no aircraft could have reached from the
-  /// previous one starts a new flight instead of drawing a straight line across the map.
-  TrailSet build(Stats* stats = nullptr, double gap_seconds = -1.0,
-                 double jump_speed_ms = std::numeric_limits<double>::infinity());
+  /// `split_jumps` also splits where a flight is two legs (a gap over kLegGapSeconds) or teleports (a
+  /// confirmed step beyond kJumpSplitSpeedMs and kJumpSplitMinDistanceM; the rule in trails/quality.hpp),
+  /// so that a position no aircraft could have reached starts a new flight instead of drawing a straight
+  /// line across the map. A one-point spike is never split off.
+  TrailSet build(Stats* stats = nullptr, double gap_seconds = -1.0, bool split_jumps = false);
 
  private:
   struct Key {
