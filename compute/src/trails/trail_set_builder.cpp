@@ -95,8 +95,9 @@ TrailSet TrailSetBuilder::build(Stats* stats, double gap_seconds, bool split_jum
                      ? since[i - 1]
                      : samples[i].t;
     // A step x→y (x < y) no aircraft flies, by the splitting thresholds (trails/quality.hpp).
-    auto impossible = [&](std::size_t x, std::size_t y) {
-      const Sample &p = samples[x], &q = samples[y];
+    // `pts`, not the structured binding `samples`: clang before 16 cannot capture a binding in a lambda.
+    auto impossible = [&, &pts = samples](std::size_t x, std::size_t y) {
+      const Sample &p = pts[x], &q = pts[y];
       const double d = great_circle_m(p.lat, p.lon, q.lat, q.lon);
       return d >= kJumpSplitMinDistanceM && d / std::max(q.t - since[x], kMinJumpSeconds) > kJumpSplitSpeedMs;
     };
