@@ -1,22 +1,12 @@
 #include "jobs/gaze_ingest_job.hpp"
 
+#include "jobs/upload_file.hpp"
 #include "limits.hpp"
 #include "params/upload_body.hpp"
 #include "trailscope/core/error.hpp"
 
 namespace trailscope::server {
 namespace fs = std::filesystem;
-
-namespace {
-/// Removes the upload when the job lets go of it: after its work, or unrun when cancelled while queued.
-struct UploadFile {
-  fs::path path;
-  ~UploadFile() {
-    std::error_code ec;
-    if (!path.empty()) fs::remove(path, ec);
-  }
-};
-}  // namespace
 
 nlohmann::json ingest_gaze_into_store(GazeStore& store, GazeIngestRequest req, const ProgressFn& progress,
                                       const CancelToken* cancel, const std::shared_ptr<DiskBudget>& disk) {

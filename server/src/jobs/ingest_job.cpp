@@ -1,20 +1,9 @@
 #include "jobs/ingest_job.hpp"
 
+#include "jobs/upload_file.hpp"
 #include "store/embedded_store.hpp"
 
 namespace trailscope::server {
-namespace fs = std::filesystem;
-
-namespace {
-/// Removes the upload when the job lets go of it: after its work, or unrun when cancelled while queued.
-struct UploadFile {
-  fs::path path;
-  ~UploadFile() {
-    std::error_code ec;
-    fs::remove(path, ec);
-  }
-};
-}  // namespace
 
 JobState submit_ingest(JobManager& jobs, std::shared_ptr<DatasetStore> store, IngestRequest req,
                        std::shared_ptr<DiskBudget> disk) {

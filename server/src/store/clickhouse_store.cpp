@@ -79,14 +79,7 @@ struct RowReader {
     return n;
   }
   std::string str() {
-    std::uint64_t n = 0;
-    for (int shift = 0;; shift += 7) {
-      need(1);
-      const auto byte = static_cast<std::uint8_t>(data[pos++]);
-      n |= std::uint64_t(byte & 0x7f) << shift;
-      if (!(byte & 0x80)) break;
-      if (shift > 56) throw Error(Error::Kind::internal, "store", "ClickHouse: a malformed string length");
-    }
+    const std::uint64_t n = length();
     need(n);
     std::string s(data.substr(pos, n));
     pos += n;
