@@ -116,6 +116,9 @@ FUZZ_SECONDS ?= 60
 FUZZ_RUNS ?= 10000000
 FUZZ_LONG_SECONDS ?= 1200
 FUZZ_LONG_JOBS ?= 1
+# Wall seconds one input may take in the long run before it counts as a hang: at nice 19 beside a build the
+# fuzzer waits for a core, and 10 s (make fuzz's limit) then fires on inputs that take milliseconds of CPU.
+FUZZ_LONG_TIMEOUT ?= 120
 FUZZ_JOBS ?= $(JOBS)
 # Leak suppressions (third-party allocations only, each explained in the file); UBSan stops at the first
 # report; ASan aborts so that ctest sees the failure. use_sigaltstack=0: with its own alternate signal stack
@@ -155,4 +158,4 @@ fuzz: fuzz-build
 
 fuzz-long: fuzz-build
 	nice -n 19 bash tests/fuzz/run.sh $(ASAN_BUILD_DIR) --long --goal $(FUZZ_RUNS) --max-seconds $(FUZZ_LONG_SECONDS) \
-	  --jobs $(FUZZ_LONG_JOBS) --out tests/fuzz/long_run.jsonl
+	  --timeout $(FUZZ_LONG_TIMEOUT) --jobs $(FUZZ_LONG_JOBS) --out tests/fuzz/long_run.jsonl

@@ -86,7 +86,6 @@ export class GazeView {
   private legendCtrl = new AbortController();
   private selectedAoi: string | null = null;
   private bundleFor = '';
-  private readonly writeHash = debounce(() => this.syncHash(), 150);
   private readonly reloadLegend = debounce(() => void this.loadLegend(), 150);
 
   constructor(host: HTMLElement) {
@@ -255,7 +254,9 @@ export class GazeView {
     await this.loadList();
     if (!this.route.dataset && this.datasets.length) {
       this.route.dataset = this.datasets[0]!.id;
-      this.writeHash();
+      // A default the view chose is in the hash before the view reports ready (the debounced write is for
+      // typing): a link copied at once names what is shown.
+      this.syncHash();
     }
     if (changedSet) await this.loadDetail();
     else this.reload();
@@ -343,7 +344,7 @@ export class GazeView {
     mount(this.participantSelect, h('option', { value: '' }, 'all'), ...d.participants.map((p) => h('option', { value: p }, p)));
     if (!this.route.stimulus || !d.stimuli.includes(this.route.stimulus)) {
       this.route.stimulus = d.stimuli[0] ?? null;
-      this.writeHash();
+      this.syncHash();
     }
     this.syncControls();
   }
@@ -429,7 +430,7 @@ export class GazeView {
   }
 
   private syncHash() {
-    // A debounced write after the user left for another dashboard must not bring them back.
+    // A write after an await (the user may have left for another dashboard meanwhile) must not bring them back.
     if (!isGazeHash(window.location.hash)) return;
     const next = gazeHash(this.route);
     if (window.location.hash !== next) history.replaceState(null, '', next);
