@@ -615,6 +615,40 @@ await test('a projection whose runs changed on the server is marked stale (a com
   assert(await page.locator(sel('projection-stale')).isHidden(), 'no stale mark after recomputing');
 });
 
+await test('a comparison whose run was deleted on the server is marked stale, left as drawn until its Recompute', async () => {
+  const sweepId = (await state()).sweep;
+  // The sweep's runs still on the server (the sweep's own list keeps the id the last step deleted).
+  const ids = (await api('GET', '/api/v1/runs')).runs.filter((r) => r.sweep === sweepId).map((r) => r.id);
+  assertEqual(ids.length, 19, 'the sweep\'s runs after the last step');
+  const [a, b] = [ids[0], ids[1]];
+  await page.goto(`${BASE_URL}/#runs?sweep=${encodeURIComponent(sweepId)}&sel=${a},${b}`, { waitUntil: 'domcontentloaded' });
+  await page.waitForFunction(() => document.querySelector('[data-testid="projection"]')?.dataset.state === 'ready', null, { timeout: 60_000 });
+  await page.waitForFunction(() => window.__trailscopeRuns.state().lanes.length === 2, null, { timeout: 60_000 });
+  const requestsBefore = requests.length;
+  const errorsBefore = errors.length;
+  const del = await fetch(`${BASE_URL}/api/v1/runs/${encodeURIComponent(b)}`, { method: 'DELETE' });
+  assertEqual(del.status, 204, 'DELETE a compared run');
+  await page.evaluate(() => window.dispatchEvent(new Event('focus')));
+  await page.waitForFunction(() => document.querySelector('[data-testid="compare"]')?.dataset.stale === 'true');
+  assertEqual((await page.textContent(sel('compare-stale'))).trim().replace(/\s+/g, ' '), `stale compared run ${b} no longer on the server; Recompute`, 'the comparison says which run is gone');
+  assertEqual((await state()).lanes.length, 2, 'the comparison is left as drawn');
+  await page.mouse.move(5, 5);
+  await page.screenshot({ path: path.join(ARTIFACTS, 'runs-compare-stale.png') });
+  assertEqual(requests.slice(requestsBefore).filter((u) => u.includes('/api/v1/compare')).length, 0, 'nothing was recompared behind the analyst');
+  assertEqual(errors.slice(errorsBefore).join('\n'), '', 'no console errors (no request for the deleted run)');
+  // One click: the lists reloaded, the gone run dropped from the selection, one run left: nothing to compare.
+  await page.click(sel('compare-recompute'));
+  await page
+    .waitForFunction(() => document.querySelector('[data-testid="compare"]')?.dataset.stale === 'false' && window.__trailscopeRuns.state().lanes.length === 0, null, { timeout: 60_000 })
+    .catch(async (e) => {
+      const s = await state();
+      const c = await page.$eval(sel('compare'), (el) => ({ ...el.dataset, note: el.querySelector('[data-testid="compare-note"]')?.textContent }));
+      throw new Error(`${e.message}; compare ${JSON.stringify(c)}; selection ${s.selection}; lanes ${s.lanes}; hash ${await page.evaluate(() => window.location.hash)}`);
+    });
+  assertEqual((await page.textContent(sel('compare-note'))).trim(), 'Select at least 2 runs.', 'the comparison says why it is empty');
+  assert(!(await page.evaluate(() => window.location.hash)).includes(b), 'the gone run left the URL');
+});
+
 await test('no request went to a non-loopback host', async () => {
   const outside = [...new Set(requests.filter(leavesMachine))];
   assert(requests.some((u) => u.includes('/api/v1/compare') || u.includes('/api/v1/projections')), 'API requests were recorded');

@@ -77,7 +77,12 @@ export class RunsView {
   private pick: ComparePick | null = null;
   /** The selection (ids joined) the pick was made from. */
   private pickFor = '';
-  private comparedKey = '';
+  /**
+   * The compared runs (ids joined) the comparison shows; null forces the next loadCompare to redo it (an
+   * empty pick's key is '' too, so '' could not say "redo": a sweep reloaded down to one run kept the old
+   * comparison on screen).
+   */
+  private comparedKey: string | null = null;
   private cmp: Comparison | null = null;
   private cursor: number | null = null;
   private loaded = false;
@@ -315,7 +320,7 @@ export class RunsView {
       : `${this.rows.length} runs on ${videos.length} videos`;
     this.proj = null;
     this.filter = null;
-    this.comparedKey = '';
+    this.comparedKey = null;
     const varying = varyingParams(this.rows);
     this.table.setRows(this.rows, varying.slice(0, KEY_PARAMS), this.units);
     this.buildParallel(varying);
@@ -369,7 +374,7 @@ export class RunsView {
     this.buildParallel(varyingParams(this.rows));
     this.pc.setSelection(this.selection);
     void this.loadImportance();
-    this.comparedKey = '';
+    this.comparedKey = null;
     this.scheduleCompare();
     this.writeHash();
   }
@@ -543,9 +548,9 @@ export class RunsView {
       this.compare.clear(
         pick.selected === 0
           ? 'Select 2 to 8 runs of one video (table, projection or filter) to compare them.'
-          : pick.ofVideo < 2
-            ? `The selection has fewer than 2 runs of any one video (runs are compared on one video).`
-            : 'Select at least 2 runs.',
+          : pick.selected === 1
+            ? 'Select at least 2 runs.'
+            : `The selection has fewer than 2 runs of any one video (runs are compared on one video).`,
       );
       return;
     }
@@ -566,7 +571,7 @@ export class RunsView {
     } catch (e) {
       if (isAbort(e)) return;
       this.cmp = null;
-      this.comparedKey = '';
+      this.comparedKey = null;
       const msg = e instanceof ApiError ? (e.status === 404 && e.param !== 'runs' && !e.detail.includes('run') ? 'This server has no comparison route (POST /api/v1/compare).' : e.detail) : String(e);
       this.compare.setError(msg);
     }
