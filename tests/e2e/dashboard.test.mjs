@@ -776,6 +776,75 @@ await test('a bundle is marked stale when its window changed; one click recomput
   assert(await page.locator(sel('bundle-stale')).isHidden(), 'no stale mark on the new bundle');
 });
 
+await test('a link keeps the bundle: id, view, relaxation and colouring in the URL; opened afresh it shows that bundle, stale only when its window differs', async () => {
+  const id = await page.getAttribute(bundlePanel, 'data-bundle');
+  await page.selectOption(sel('bundle-color'), 'direction');
+  await page.$eval(sel('bundle-relaxation'), (el) => {
+    el.value = '0.4';
+    el.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  await page.waitForFunction((b) => {
+    const q = new URLSearchParams(window.location.hash.slice(1));
+    return q.get('bundle') === b && q.get('bcolor') === 'direction' && q.get('brelax') === '0.40' && !q.has('bview');
+  }, id);
+  const hash = await page.evaluate(() => window.location.hash);
+  const meta = await (await fetch(`${BASE_URL}/api/v1/bundles/${id}`)).json();
+  const other = await context.newPage();
+  const otherErrors = [];
+  recordErrors(other, otherErrors, 'link: ');
+  try {
+    await other.goto(`${BASE_URL}/${hash}`, { waitUntil: 'domcontentloaded' });
+    await other
+      .waitForFunction((b) => {
+        const el = document.querySelector('#bundle-section');
+        const m = document.querySelector('[data-testid="map"]');
+        return el?.dataset.bundle === b && el.dataset.state === 'done' && m?.dataset.bundleLoaded === 'true';
+      }, id, { timeout: 60_000 })
+      .catch(async (e) => {
+        const d = await other.evaluate(() => ({ panel: { ...document.querySelector('#bundle-section')?.dataset }, map: { ...document.querySelector('[data-testid="map"]')?.dataset }, result: document.querySelector('[data-testid="bundle-result"]')?.textContent, hash: window.location.hash }));
+        throw new Error(`${e.message}; ${JSON.stringify(d)}; page errors: ${otherErrors.join(' | ')}`);
+      });
+    const shown = await other.$eval('#bundle-section', (el) => ({ ...el.dataset }));
+    assertEqual(`${shown.mode} ${shown.color} ${shown.stale}`, 'bundled direction false', 'the link\'s view, not stale (its window is the bundle\'s)');
+    assertEqual(await other.inputValue(sel('bundle-relaxation')), '0.4', 'the relaxation');
+    assertEqual(await other.inputValue(sel('bundle-color')), 'direction', 'the colour mode');
+    const template = await other.getAttribute(sel('map'), 'data-bundle-template');
+    assert(template.includes(`/bundle/${id}/`), `the bundle's tiles (${template})`);
+    assert(template.includes('color=direction') && template.includes('relaxation=0.40'), `tiles in the link's colour and relaxation (${template})`);
+    // Every parameter field shows the bundle's value (left empty where that is the default).
+    const fields = await other.$$eval('#bundle-section [data-param]', (els) => els.map((e) => [e.dataset.param, e.value, e.getAttribute('placeholder')]));
+    assert(fields.length > 5, `parameter fields (${fields.length})`);
+    for (const [name, value, placeholder] of fields) assertEqual(value === '' ? placeholder : value, meta.params[name], `parameter ${name}`);
+    // The link's window moved: the same bundle, now marked stale.
+    const q = new URLSearchParams(hash.slice(1));
+    q.set('t0', String(Number(q.get('t0')) + 600));
+    // A new load of the link (a hash-only navigation would keep the running page, which writes its own hash).
+    await other.goto('about:blank');
+    await other.goto(`${BASE_URL}/#${q}`, { waitUntil: 'domcontentloaded' });
+    await other
+      .waitForFunction((b) => {
+        const el = document.querySelector('#bundle-section');
+        return el?.dataset.bundle === b && el.dataset.stale === 'true';
+      }, id, { timeout: 60_000 })
+      .catch(async (e) => {
+        const d = await other.evaluate(() => ({ panel: { ...document.querySelector('#bundle-section')?.dataset }, result: document.querySelector('[data-testid="bundle-result"]')?.textContent, hash: window.location.hash }));
+        throw new Error(`${e.message}; ${JSON.stringify(d)}; asked ${q}; page errors: ${otherErrors.join(' | ')}`);
+      });
+    assert(await other.locator(sel('bundle-stale')).isVisible(), 'the stale mark shows');
+    await other.mouse.move(5, 5);
+    await other.screenshot({ path: path.join(ARTIFACTS, 'bundle-from-link.png') });
+    // A link to a bundle no longer on the server says so.
+    q.set('bundle', 'b999999');
+    await other.goto('about:blank');
+    await other.goto(`${BASE_URL}/#${q}`, { waitUntil: 'domcontentloaded' });
+    await other.waitForSelector(sel('bundle-restore-error'), { timeout: 60_000 });
+    assert((await other.textContent(sel('bundle-restore-error'))).startsWith('Bundle b999999 from the link: '), 'the missing bundle is named');
+    assertEqual(otherErrors.filter((e) => !e.includes('404')).join(' | '), '', 'no page errors besides the missing bundle\'s 404');
+  } finally {
+    await other.close();
+  }
+});
+
 await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the page or the window', async () => {
   const brush = sel('time-brush');
   const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
@@ -812,6 +881,65 @@ await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the pag
   assertEqual(await win(), window0, 'the window did not change');
   await page.locator('#timeline').screenshot({ path: path.join(ARTIFACTS, 'time-axis-pinch.png') });
   console.log(`        whole ${Math.round(whole)} s → ctrl+wheel ${Math.round(pinched)} s`);
+});
+
+await test('time axis: a two-finger touch pinch zooms the axis; the first finger\'s brush drag gives the window back', async () => {
+  const brush = sel('time-brush');
+  const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
+  const whole = ds.t_max - ds.t_min;
+  const span = async () => {
+    const [a, b] = [await page.getAttribute(brush, 'data-view-t0'), await page.getAttribute(brush, 'data-view-t1')];
+    return a && b ? Number(b) - Number(a) : whole;
+  };
+  const win = async () => [await page.getAttribute(brush, 'data-t0'), await page.getAttribute(brush, 'data-t1')].join('-');
+  await page.click(sel('time-zoom-all'));
+  await page.waitForFunction(([b, w]) => {
+    const e = document.querySelector(b);
+    return !e.dataset.viewT1 || Number(e.dataset.viewT1) - Number(e.dataset.viewT0) >= w * 0.99;
+  }, [brush, whole]);
+  const window0 = await win();
+  const box = await page.locator(brush).boundingBox();
+  const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+  // Real touch input through the DevTools protocol (Chromium turns it into touch and pointer events).
+  await page.evaluate(() => {
+    window.__touchLog = [];
+    const plot = document.querySelector('[data-testid="time-brush"] .brush-plot') ?? document.elementFromPoint(0, 0);
+    for (const t of ['touchstart', 'touchmove', 'touchend', 'pointerdown', 'pointercancel']) {
+      document.addEventListener(t, (e) => window.__touchLog.push(`${t}:${e.touches ? e.touches.length : e.pointerId}:${e.target.className?.baseVal ?? e.target.className}:${plot?.__zoom?.k ?? '-'}`), { capture: true });
+    }
+  });
+  const cdp = await context.newCDPSession(page);
+  await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 5 });
+  const touch = (type, pts) => cdp.send('Input.dispatchTouchEvent', { type, touchPoints: pts.map(([x, id]) => ({ x, y: cy, id })) });
+  try {
+    // The first finger lands and drags far enough to start a brush selection...
+    await touch('touchStart', [[cx - 30, 0]]);
+    await touch('touchMove', [[cx - 10, 0]]);
+    await touch('touchMove', [[cx + 10, 0]]);
+    // ...then the second lands: a pinch, spread from 40 px to 280 px apart.
+    await touch('touchStart', [[cx + 10, 0], [cx + 50, 1]]);
+    for (let i = 1; i <= 12; i++) {
+      await touch('touchMove', [[cx + 10 - 10 * i, 0], [cx + 50 + 10 * i, 1]]);
+      await page.waitForTimeout(16);
+    }
+    await touch('touchEnd', []);
+  } finally {
+    await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: false });
+    await cdp.detach();
+  }
+  await page
+    .waitForFunction(([b, w]) => {
+      const e = document.querySelector(b);
+      return e.dataset.viewT1 && Number(e.dataset.viewT1) - Number(e.dataset.viewT0) < w / 2;
+    }, [brush, whole], { timeout: 10_000 })
+    .catch(async (e) => {
+      throw new Error(`${e.message}; events ${await page.evaluate(() => window.__touchLog.join(' '))}`);
+    });
+  const pinched = await span();
+  // d3-zoom's pinch scales by the ratio of the fingers' distances: 280 / 40 = 7 (within d3's own rounding).
+  assert(pinched > whole / 9 && pinched < whole / 5, `the span shrank by the fingers' ratio (${Math.round(whole)} s → ${Math.round(pinched)} s)`);
+  assertEqual(await win(), window0, 'the window did not change');
+  console.log(`        whole ${Math.round(whole)} s → touch pinch ${Math.round(pinched)} s`);
 });
 
 await test('no request went to a non-loopback host', async () => {

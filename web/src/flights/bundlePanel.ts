@@ -1,9 +1,11 @@
 // Bundling panel: CUBu parameters (from the API's own list), "Bundle this window" for the current data set,
 // time window, filters and map view, a progress bar fed by the job WebSocket, the quality figures, and the
-// raw/bundled toggle with a relaxation slider that blends on the client (no recomputation).
+// raw/bundled toggle with a relaxation slider that blends on the client (no recomputation). The shown
+// bundle, its mode, relaxation and colouring are in the URL (flightsView.ts writes them: bundle, bview,
+// brelax, bcolor), so a shared link shows the same bundle, marked stale if the link's window is not its own.
 
 import { ApiError, api, bundleTileTemplate, isAbort } from '../api/client';
-import { buildQuery, validateFilters } from '../api/query';
+import { buildQuery, parseFilters, validateFilters, type Filters } from '../api/query';
 import type { Bundle, BundleParamInfo, Job } from '../api/types';
 import { debounce, h, mount, sectionHead } from '../lib/dom';
 import { blendSource, decodeTsbl } from './tsbl';
@@ -18,7 +20,39 @@ import type { MapView } from './map';
 const MAIN_PARAMS = ['size', 'h', 'iterations', 'eps', 'lambda', 'spl', 'profile', 'directional'];
 const FINISHED = new Set(['done', 'failed', 'cancelled']);
 
-type Mode = 'raw' | 'bundled';
+export type BundleMode = 'raw' | 'bundled';
+type Mode = BundleMode;
+
+/** A shown bundle as the URL keeps it. */
+export interface BundleView {
+  id: string;
+  mode: BundleMode;
+  /** 0 = bundled .. 1 = raw trails. */
+  relaxation: number;
+  color: BundleColor;
+}
+
+/** The bundle view in a URL hash's parameters (bundle, bview, brelax, bcolor), or null without `bundle`. */
+export function parseBundleView(q: URLSearchParams): BundleView | null {
+  const id = q.get('bundle');
+  if (!id || !/^[A-Za-z0-9_-]{1,64}$/.test(id)) return null;
+  const relax = Number(q.get('brelax') ?? '0');
+  return {
+    id,
+    mode: q.get('bview') === 'raw' ? 'raw' : 'bundled',
+    relaxation: Number.isFinite(relax) ? Math.min(1, Math.max(0, relax)) : 0,
+    color: BUNDLE_COLORS.find((c) => c === q.get('bcolor')) ?? 'length',
+  };
+}
+
+/** Writes `v` into hash parameters `p` (defaults left out: bundled, relaxation 0, colour by length). */
+export function writeBundleView(p: URLSearchParams, v: BundleView | null): void {
+  if (!v) return;
+  p.set('bundle', v.id);
+  if (v.mode !== 'bundled') p.set('bview', v.mode);
+  if (v.relaxation > 0) p.set('brelax', v.relaxation.toFixed(2));
+  if (v.color !== 'length') p.set('bcolor', v.color);
+}
 
 export class BundlePanel {
   private readonly root: HTMLElement;
@@ -49,6 +83,8 @@ export class BundlePanel {
   private relaxation = 0;
   private loadCtrl: AbortController | null = null;
   private readonly applyTilesSoon = debounce(() => this.applyLayers(), 250);
+  /** Settles once the parameter list is loaded (a restored bundle fills its fields from it). */
+  private readonly paramsLoaded: Promise<void>;
 
   constructor(
     root: HTMLElement,
@@ -56,6 +92,8 @@ export class BundlePanel {
     private readonly map: MapView,
     private readonly overlay: BundleOverlay,
     private readonly errors: ErrorSlots,
+    /** Called when what view() returns changed (the URL follows). */
+    private readonly onViewChange: () => void = () => undefined,
   ) {
     this.root = root;
     root.dataset.state = 'idle';
@@ -89,6 +127,7 @@ export class BundlePanel {
       this.sliderValue.textContent = this.relaxation.toFixed(2);
       this.overlay.setRelaxation(this.relaxation);
       this.applyTilesSoon();
+      this.onViewChange();
     });
     this.legendBox = h('div', { class: 'bundle-legend' });
     this.colorSelect = h(
@@ -98,10 +137,10 @@ export class BundlePanel {
     );
     // The tiles colour on the server (the color parameter of the bundle tiles); the legend follows at once.
     this.colorSelect.addEventListener('change', () => {
-      this.color = this.colorSelect.value as BundleColor;
-      this.root.dataset.color = this.color;
+      this.setColor(this.colorSelect.value as BundleColor);
       this.showLegend();
       this.applyLayers();
+      this.onViewChange();
     });
     this.viewBox = h(
       'div',
@@ -139,7 +178,7 @@ export class BundlePanel {
       this.viewBox,
     );
     errors.register(['source', 'body', 'query'], errorSlot);
-    void this.loadParams();
+    this.paramsLoaded = this.loadParams();
     store.subscribe((s, prev) => {
       if (s.datasetId !== prev.datasetId) this.reset();
       this.startBtn.disabled = !this.canStart();
@@ -199,9 +238,11 @@ export class BundlePanel {
 
   /** What a bundle started now would be made from (the view box aside: panning shows, not changes, it). */
   private inputsKey(): string {
-    const d = this.store.dataset();
-    const f = { ...this.store.effectiveFilters(), bbox: null };
-    return `${d?.id ?? ''}?${buildQuery(f).toString()}#${JSON.stringify(this.params())}`;
+    return this.keyOf(this.store.dataset()?.id ?? '', this.store.effectiveFilters());
+  }
+
+  private keyOf(dataset: string, filters: Filters): string {
+    return `${dataset}?${buildQuery({ ...filters, bbox: null }).toString()}#${JSON.stringify(this.params())}`;
   }
 
   /** Marks the shown bundle stale once its inputs differ from the dashboard's (one click recomputes). */
@@ -271,13 +312,54 @@ export class BundlePanel {
     if (job.state === 'done') void this.load((job.result as Bundle | null)?.id ?? this.pendingBundle ?? '');
   }
 
-  /** Fetches the result's meta and its TSBL polylines (once: the slider blends them locally). */
-  private async load(id: string) {
+  /**
+   * Shows stored bundle `v.id` as a link gave it: its parameters fill the fields, and it is marked stale
+   * when the dashboard's window or filters are not the ones it was made from. A bundle of another data set,
+   * or one no longer on the server, is not shown; the panel says why.
+   */
+  async restore(v: BundleView): Promise<void> {
+    await this.paramsLoaded;
+    this.setColor(v.color);
+    this.relaxation = v.relaxation;
+    this.slider.value = String(v.relaxation);
+    this.sliderValue.textContent = v.relaxation.toFixed(2);
+    this.overlay.setRelaxation(v.relaxation);
+    await this.load(v.id, v.mode);
+  }
+
+  /** The shown bundle's view (null when none is shown). */
+  view(): BundleView | null {
+    return this.bundle ? { id: this.bundle.id, mode: this.mode, relaxation: this.relaxation, color: this.color } : null;
+  }
+
+  private setColor(c: BundleColor) {
+    this.color = c;
+    this.colorSelect.value = c;
+    this.root.dataset.color = c;
+  }
+
+  /**
+   * Fetches the result's meta and its TSBL polylines (once: the slider blends them locally). `restored`:
+   * the mode a link asked for; the bundle's own inputs then say what it was made from.
+   */
+  private async load(id: string, restored: Mode | null = null) {
     this.loadCtrl?.abort();
     const ctrl = new AbortController();
     this.loadCtrl = ctrl;
     try {
       const [meta, buf] = await Promise.all([api.bundle(id, ctrl.signal), api.bundlePolylines(id, ctrl.signal)]);
+      const shown = this.store.dataset()?.id;
+      if (restored && meta.source.dataset !== shown) {
+        mount(this.result, h('p', { class: 'error-text small', 'data-testid': 'bundle-restore-error' }, `Bundle ${id} is of ${meta.source.dataset ? `data set ${meta.source.dataset}` : 'a graph'}, not of ${shown ?? 'the data set shown'}.`));
+        return;
+      }
+      if (restored) {
+        // A finished bundle, though no job of this page made it.
+        this.root.dataset.state = 'done';
+        this.fillParams(meta.params);
+        this.pendingInputs = this.keyOf(meta.source.dataset ?? '', parseFilters(new URLSearchParams(meta.source.query ?? {})));
+        this.pendingBundle = meta.id;
+      }
       this.bundle = meta;
       this.madeFrom = this.pendingInputs;
       this.syncStale();
@@ -288,10 +370,19 @@ export class BundlePanel {
       this.showResult(meta);
       this.root.dataset.bundle = meta.id;
       this.viewBox.hidden = false;
-      this.setMode('bundled');
+      this.setMode(restored ?? 'bundled');
     } catch (e) {
       if (isAbort(e)) return;
-      mount(this.result, h('p', { class: 'error-text small' }, e instanceof ApiError ? e.detail : String(e)));
+      const why = e instanceof ApiError ? e.detail : String(e);
+      mount(this.result, h('p', { class: 'error-text small', 'data-testid': restored ? 'bundle-restore-error' : null }, restored ? `Bundle ${id} from the link: ${why}` : why));
+    }
+  }
+
+  /** The parameter fields as bundle `params` had them (a field at its default is left empty). */
+  private fillParams(params: Record<string, string>) {
+    for (const [name, { info, el }] of this.inputs) {
+      const v = params[name];
+      el.value = v === undefined || v === info.default ? (info.type === 'enum' || info.type === 'boolean' ? info.default : '') : v;
     }
   }
 
@@ -344,6 +435,7 @@ export class BundlePanel {
     this.modeInputs[m].checked = true;
     this.root.dataset.mode = m;
     this.applyLayers();
+    this.onViewChange();
   }
 
   /** Raw: the density tiles. Bundled: the bundle's tiles at the slider's relaxation, and the overlay. */

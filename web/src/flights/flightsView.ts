@@ -11,7 +11,7 @@ import { ErrorSlots } from './errors';
 import { FlightCard } from './flightCard';
 import { FlightList } from './flightList';
 import { JobsView } from './jobs';
-import { BundlePanel } from './bundlePanel';
+import { BundlePanel, parseBundleView, writeBundleView, type BundleView } from './bundlePanel';
 import { FlowPanel } from './flow/flowPanel';
 import { BundleOverlay } from './bundleOverlay';
 import { MapView } from './map';
@@ -59,6 +59,8 @@ interface HashState {
   timeView: { start: number; end: number } | null;
   /** The playback instant (`at`: the playback view is open), speed, tail and colour-by. */
   playback: ReturnType<typeof parsePlayback> & { colorBy: ColorBy };
+  /** The shown bundle (`bundle`, `bview`, `brelax`, `bcolor`: bundlePanel.ts). */
+  bundle: BundleView | null;
 }
 
 function readHash(): { state: Partial<AppState>; extra: HashState } {
@@ -83,6 +85,7 @@ function readHash(): { state: Partial<AppState>; extra: HashState } {
       flightPage: /^\d+$/.test(q.get('fpage') ?? '') ? Number(q.get('fpage')) : null,
       timeView: tview && tview.length === 2 && tview.every(Number.isFinite) && tview[1]! > tview[0]! ? { start: tview[0]!, end: tview[1]! } : null,
       playback: { ...parsePlayback(q), colorBy: COLOR_BYS.find((c) => c === color) ?? 'altitude' },
+      bundle: parseBundleView(q),
     },
   };
 }
@@ -121,6 +124,8 @@ export class FlightsView {
   private lastPoints: number | null = null;
   private initialView: HashState['view'];
   private initialFlight: number | null;
+  /** A bundle from the URL, shown once its data set is (used once). */
+  private initialBundle: BundleView | null;
   private readonly scheduleRefresh = debounce(() => this.refresh(), 60);
   private readonly writeHash = debounce(() => this.syncHash(), 300);
 
@@ -129,6 +134,7 @@ export class FlightsView {
     this.store = new Store(state);
     this.initialView = extra.view;
     this.initialFlight = extra.flight;
+    this.initialBundle = extra.bundle;
     this.flightSort = extra.flightSort;
     this.initialPage = extra.flightPage;
     this.errors = new ErrorSlots(byId('banner'));
@@ -199,7 +205,7 @@ export class FlightsView {
       onUploadError: (err) => this.errors.show('upload', err),
     });
     this.errors.register(['name', 'format'], byId('upload-error'));
-    this.bundles = new BundlePanel(byId('bundle-section'), this.store, this.map, new BundleOverlay(this.map.map), this.errors);
+    this.bundles = new BundlePanel(byId('bundle-section'), this.store, this.map, new BundleOverlay(this.map.map), this.errors, () => this.writeHash());
     new FlowPanel(byId('flow-section'), this.store, this.map.map, this.errors); // flow layer (flow/flowPanel.ts)
 
     this.playback = new PlaybackView(
@@ -347,6 +353,10 @@ export class FlightsView {
       const chosen = pick(prefer) ?? pick(current) ?? datasets[0] ?? null;
       this.store.set({ datasets, datasetId: chosen?.id ?? null });
       if (!chosen) this.showNoData('No data sets yet: upload one (left) or run trailscope ingest.');
+      else if (this.initialBundle) {
+        void this.bundles.restore(this.initialBundle);
+        this.initialBundle = null;
+      }
     } catch (e) {
       if (e instanceof ApiError) {
         this.errors.show('datasets', e);
@@ -628,6 +638,7 @@ export class FlightsView {
     const c0 = this.clock.get();
     writePlayback(p, { at: this.playback.isOn() ? c0.t : null, speed: c0.speed, tail: this.playback.tailSeconds() });
     if (this.playback.isOn()) p.set('color', this.playback.color());
+    writeBundleView(p, this.bundles.view());
     const next = `#${p.toString()}`;
     if (window.location.hash !== next) history.replaceState(null, '', next);
   }

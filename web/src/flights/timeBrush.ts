@@ -148,6 +148,11 @@ export class TimeBrush {
     select(this.plot).call(this.zoomBehavior).on('dblclick.zoom', null);
     // At a zoom limit d3-zoom lets the wheel through: it would scroll the page under the analyst's hand.
     this.plot.addEventListener('wheel', (e) => e.preventDefault(), { passive: false });
+    // One finger drags the brush, two pinch: the browser must neither scroll nor zoom for either. touch-action
+    // (styles.css) says so up front; cancelling the one-finger moves as well keeps the sequence's later moves
+    // cancelable (Chromium makes them uncancelable once one went uncancelled), so d3-zoom's own
+    // preventDefault in the pinch that follows is not refused with a console warning.
+    this.plot.addEventListener('touchmove', (e) => e.cancelable && e.preventDefault(), { passive: false });
 
     new ResizeObserver(() => this.resize()).observe(this.plot);
     this.plot.addEventListener('pointerdown', (e) => this.onDown(e));
