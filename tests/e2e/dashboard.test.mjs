@@ -845,11 +845,14 @@ await test('a link keeps the bundle: id, view, relaxation and colouring in the U
   }
 });
 
-await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the page or the window', async () => {
+/**
+ * The time axis zoomed out to the whole data set ("Whole range"): the brush's selector, the data set's span
+ * (s), the view's span now (no view attributes: the whole data set) and the window as "t0-t1".
+ */
+async function timeAxisAtWholeRange() {
   const brush = sel('time-brush');
   const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
   const whole = ds.t_max - ds.t_min;
-  // The view's span (no view attributes: the whole data set).
   const span = async () => {
     const [a, b] = [await page.getAttribute(brush, 'data-view-t0'), await page.getAttribute(brush, 'data-view-t1')];
     return a && b ? Number(b) - Number(a) : whole;
@@ -861,6 +864,11 @@ await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the pag
     return !e.dataset.viewT1 || Number(e.dataset.viewT1) - Number(e.dataset.viewT0) >= w * 0.99;
   }, [brush, whole]);
   assert((await span()) >= whole * 0.99, `the whole range shows (${await span()} of ${whole} s)`);
+  return { brush, whole, span, win };
+}
+
+await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the page or the window', async () => {
+  const { brush, whole, span, win } = await timeAxisAtWholeRange();
   const window0 = await win();
   const zoom0 = await page.evaluate(() => window.visualViewport?.scale ?? 1);
   const box = await page.locator(brush).boundingBox();
@@ -884,19 +892,7 @@ await test('time axis: a trackpad pinch (ctrl+wheel) zooms the axis, not the pag
 });
 
 await test('time axis: a two-finger touch pinch zooms the axis; the first finger\'s brush drag gives the window back', async () => {
-  const brush = sel('time-brush');
-  const ds = await (await fetch(`${BASE_URL}/api/v1/datasets/${DATASET}`)).json();
-  const whole = ds.t_max - ds.t_min;
-  const span = async () => {
-    const [a, b] = [await page.getAttribute(brush, 'data-view-t0'), await page.getAttribute(brush, 'data-view-t1')];
-    return a && b ? Number(b) - Number(a) : whole;
-  };
-  const win = async () => [await page.getAttribute(brush, 'data-t0'), await page.getAttribute(brush, 'data-t1')].join('-');
-  await page.click(sel('time-zoom-all'));
-  await page.waitForFunction(([b, w]) => {
-    const e = document.querySelector(b);
-    return !e.dataset.viewT1 || Number(e.dataset.viewT1) - Number(e.dataset.viewT0) >= w * 0.99;
-  }, [brush, whole]);
+  const { brush, whole, span, win } = await timeAxisAtWholeRange();
   const window0 = await win();
   const box = await page.locator(brush).boundingBox();
   const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
