@@ -21,7 +21,6 @@ const MAIN_PARAMS = ['size', 'h', 'iterations', 'eps', 'lambda', 'spl', 'profile
 const FINISHED = new Set(['done', 'failed', 'cancelled']);
 
 export type BundleMode = 'raw' | 'bundled';
-type Mode = BundleMode;
 
 /** A shown bundle as the URL keeps it. */
 export interface BundleView {
@@ -64,7 +63,7 @@ export class BundlePanel {
   private readonly viewBox: HTMLElement;
   private readonly slider: HTMLInputElement;
   private readonly sliderValue: HTMLElement;
-  private readonly modeInputs: Record<Mode, HTMLInputElement>;
+  private readonly modeInputs: Record<BundleMode, HTMLInputElement>;
   private job: Job | null = null;
   /** The inputs (data set, filters without the view box, parameters) the current bundle was made from. */
   private madeFrom: string | null = null;
@@ -79,7 +78,7 @@ export class BundlePanel {
   private pendingBundle: string | null = null;
   private pendingInputs: string | null = null;
   private bundle: Bundle | null = null;
-  private mode: Mode = 'raw';
+  private mode: BundleMode = 'raw';
   private relaxation = 0;
   private loadCtrl: AbortController | null = null;
   private readonly applyTilesSoon = debounce(() => this.applyLayers(), 250);
@@ -103,7 +102,7 @@ export class BundlePanel {
     this.status = h('div', { class: 'bundle-status', 'aria-live': 'polite', 'data-testid': 'bundle-status' });
     this.result = h('div', { class: 'bundle-result', 'data-testid': 'bundle-result' });
 
-    const modeInput = (m: Mode) => {
+    const modeInput = (m: BundleMode) => {
       const el = h('input', { type: 'radio', name: 'bundle-mode', value: m, id: `bundle-mode-${m}`, 'data-testid': `bundle-mode-${m}` });
       el.addEventListener('change', () => el.checked && this.setMode(m));
       return el;
@@ -342,7 +341,7 @@ export class BundlePanel {
    * Fetches the result's meta and its TSBL polylines (once: the slider blends them locally). `restored`:
    * the mode a link asked for; the bundle's own inputs then say what it was made from.
    */
-  private async load(id: string, restored: Mode | null = null) {
+  private async load(id: string, restored: BundleMode | null = null) {
     this.loadCtrl?.abort();
     const ctrl = new AbortController();
     this.loadCtrl = ctrl;
@@ -430,7 +429,7 @@ export class BundlePanel {
     );
   }
 
-  private setMode(m: Mode) {
+  private setMode(m: BundleMode) {
     this.mode = m;
     this.modeInputs[m].checked = true;
     this.root.dataset.mode = m;
