@@ -236,6 +236,7 @@ TEST(OpenApi, QuotesEveryLimit) {
       // Gaze views (compute gazeview/, routes/gaze_views.cpp).
       {"kMaxGazeAois", double(L::kMaxGazeAois)},
       {"kMaxAoiVertices", double(L::kMaxAoiVertices)},
+      {"kMaxAoiCoordinatePx", L::kMaxAoiCoordinatePx},
       {"kMaxGazeViewSamples", double(L::kMaxGazeViewSamples)},
   };
   for (const auto& [name, value] : actual) {

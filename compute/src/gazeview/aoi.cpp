@@ -69,6 +69,8 @@ void validate_aois(const std::vector<Aoi>& aois) {
         "aois", std::to_string(aois.size()) + " AOIs; at most " + std::to_string(limits::kMaxGazeAois));
   std::set<std::string> names;
   std::size_t vertices = 0;
+  const std::string beyond = " is beyond +-" + std::to_string(std::int64_t(limits::kMaxAoiCoordinatePx)) +
+                             " px (kMaxAoiCoordinatePx)";
   for (std::size_t i = 0; i < aois.size(); ++i) {
     const Aoi& a = aois[i];
     const std::string which = "AOI " + std::to_string(i) + (a.name.empty() ? "" : " (" + a.name + ")");
@@ -80,8 +82,11 @@ void validate_aois(const std::vector<Aoi>& aois) {
     if (a.name.size() > 200) throw invalid_argument("aois", which + ": name longer than 200 bytes");
     if (!names.insert(a.name).second) throw invalid_argument("aois", which + ": name used twice");
     if (a.is_rect) {
-      for (double v : {a.x0, a.y0, a.x1, a.y1})
+      for (double v : {a.x0, a.y0, a.x1, a.y1}) {
         if (!std::isfinite(v)) throw invalid_argument("aois", which + ": a corner is not a finite number");
+        if (std::abs(v) > limits::kMaxAoiCoordinatePx)
+          throw invalid_argument("aois", which + ": a corner" + beyond);
+      }
       if (!(a.x0 < a.x1) || !(a.y0 < a.y1))
         throw invalid_argument("aois", which + ": a rectangle needs x0 < x1 and y0 < y1");
     } else {
@@ -90,9 +95,13 @@ void validate_aois(const std::vector<Aoi>& aois) {
       if (a.xs.size() < 3)
         throw invalid_argument(
             "aois", which + ": a polygon needs at least 3 vertices, not " + std::to_string(a.xs.size()));
-      for (std::size_t k = 0; k < a.xs.size(); ++k)
+      for (std::size_t k = 0; k < a.xs.size(); ++k) {
         if (!std::isfinite(a.xs[k]) || !std::isfinite(a.ys[k]))
           throw invalid_argument("aois", which + ": vertex " + std::to_string(k) + " is not finite");
+        if (std::abs(a.xs[k]) > limits::kMaxAoiCoordinatePx ||
+            std::abs(a.ys[k]) > limits::kMaxAoiCoordinatePx)
+          throw invalid_argument("aois", which + ": vertex " + std::to_string(k) + beyond);
+      }
     }
   }
 }

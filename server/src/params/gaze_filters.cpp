@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "limits.hpp"
+#include "params/json_fields.hpp"
 #include "params/query_params.hpp"
 #include "trailscope/core/error.hpp"
 
@@ -89,6 +90,13 @@ GazeFilters parse_gaze_filters(const Request& req) {
     }
   }
   return f;
+}
+
+GazeFilters parse_gaze_filters(const nlohmann::json& body) {
+  Request as_query;
+  for (const std::string& k : gaze_filter_keys())
+    if (body.contains(k)) as_query.query[k] = scalar_text(body[k], k);
+  return parse_gaze_filters(as_query);
 }
 
 }  // namespace trailscope::server::params

@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "routes/http_types.hpp"
 #include "trailscope/gaze/events.hpp"
 #include "trailscope/gaze/query.hpp"
@@ -43,5 +45,11 @@ std::vector<std::string> with_gaze_filter_keys(std::vector<std::string> extra);
 /// applied). Throws invalid_argument naming the parameter: "recording: 'x' is not an integer",
 /// 'method must be ivt, idt or adaptive, not "x"', "velocity_threshold must be in (0, 5000], not -1", ...
 GazeFilters parse_gaze_filters(const Request& req);
+
+/// The same parameters as fields of a POST route's JSON body object (POST …/aoi): each a scalar (string,
+/// number or boolean; json_fields.hpp scalar_text) read as the query parameter it stands for, so a field and
+/// a parameter are checked alike. Fields other than these are the caller's. Throws what the Request
+/// overload throws, and invalid_argument naming the field for an array or object value.
+GazeFilters parse_gaze_filters(const nlohmann::json& body);
 
 }  // namespace trailscope::server::params

@@ -53,15 +53,6 @@ std::vector<std::size_t> bounded_recordings(const gaze::GazeDataset& ds, const g
   return sel;
 }
 
-/// The gaze filters of a POST body: its filter fields as the query parameters they stand for, through
-/// the one parser (so a body field and a query parameter are checked alike and errors name the field).
-params::GazeFilters body_filters(const nlohmann::json& body) {
-  Request as_query;
-  for (const std::string& k : params::gaze_filter_keys())
-    if (body.contains(k)) as_query.query[k] = scalar_text(body[k], k);
-  return params::parse_gaze_filters(as_query);
-}
-
 }  // namespace
 
 Response gaze_tile(App& app, const Request& req, const PathParams& p) {
@@ -131,7 +122,7 @@ Response gaze_aoi(App& app, const Request& req, const PathParams& p) {
   const nlohmann::json body = parse_body_object(req.body, allowed);
   if (!body.contains("aois")) throw invalid_argument("aois", "aois: give the areas of interest");
   const std::vector<gazeview::Aoi> aois = gazeview::aois_from_json(body["aois"]);
-  const params::GazeFilters f = body_filters(body);
+  const params::GazeFilters f = params::parse_gaze_filters(body);
   const auto ds = store_of(app).get(p.at("gaze"));
   bounded_recordings(*ds, f.select);
   const gazeview::ViewEvents ev = gazeview::view_events(*ds, f.select, f.events, limits::kMaxGazeEvents);
@@ -146,7 +137,7 @@ Response gaze_bundle(App& app, const Request& req, const PathParams& p) {
   std::vector<std::string> allowed = params::gaze_filter_keys();
   allowed.insert(allowed.end(), {"params", "backend"});
   const nlohmann::json body = parse_body_object(req.body, allowed);
-  const params::GazeFilters f = body_filters(body);
+  const params::GazeFilters f = params::parse_gaze_filters(body);
   bundling::BundleParams bp;
   if (body.contains("params")) {
     const nlohmann::json& ps = body["params"];

@@ -98,6 +98,12 @@ TEST(GazeAoi, ValidationMessages) {
   EXPECT_EQ(message({Aoi::rect("a", 0, 0, 1, 1), Aoi::rect("a", 0, 0, 2, 2)}), "AOI 1 (a): name used twice");
   EXPECT_EQ(message({Aoi::rect("a", 5, 0, 1, 1)}), "AOI 0 (a): a rectangle needs x0 < x1 and y0 < y1");
   EXPECT_EQ(message({Aoi::rect("a", 0, 0, NAN, 1)}), "AOI 0 (a): a corner is not a finite number");
+  // Beyond kMaxAoiCoordinatePx (float could not hold 1e300 at all); the limit itself is accepted.
+  EXPECT_EQ(message({Aoi::rect("a", 0, 0, 1e300, 1)}),
+            "AOI 0 (a): a corner is beyond +-1000000 px (kMaxAoiCoordinatePx)");
+  EXPECT_EQ(message({Aoi::polygon("p", {0, -1000000.5, 5}, {0, 0, 5})}),
+            "AOI 0 (p): vertex 1 is beyond +-1000000 px (kMaxAoiCoordinatePx)");
+  EXPECT_NO_THROW(validate_aois({Aoi::rect("a", -1e6, -1e6, 1e6, 1e6)}));
   EXPECT_EQ(message({Aoi::polygon("p", {0, 1}, {0, 1})}),
             "AOI 0 (p): a polygon needs at least 3 vertices, not 2");
   EXPECT_EQ(message({Aoi::rect("r", 0, 0, 1, 1),

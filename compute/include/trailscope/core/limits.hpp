@@ -178,6 +178,9 @@ inline constexpr std::size_t kMaxGazeWindowSamples = 100'000;
 inline constexpr std::size_t kMaxGazeAois = 256;
 /// Most vertices of all AOIs of one query together, a rectangle counting 4 (a fixation meets them all).
 inline constexpr std::size_t kMaxAoiVertices = 4096;
+/// Largest |coordinate| of an AOI corner or vertex (stimulus px): polygons are tested in float
+/// (cv::pointPolygonTest), which keeps 1/16 px here, and a double beyond float's range would not convert.
+inline constexpr double kMaxAoiCoordinatePx = 1'000'000;
 // --- flow maps (flow/): sector velocity fields, evenly spaced streamlines, their bundling -----------
 /// Most cells along either side of a flow field grid (traffic fields and uploaded fields alike).
 inline constexpr int kMaxFlowGridCells = 1024;

@@ -51,7 +51,8 @@ struct Aoi {
 /// Throws Error(invalid_argument, "aois", ...) naming the AOI (by position and name) when: the list is
 /// empty or longer than limits::kMaxGazeAois; a name is empty, longer than 200 bytes or repeated; a
 /// coordinate is not finite; a rectangle has x0 >= x1 or y0 >= y1; a polygon has fewer than 3 vertices, or
-/// xs and ys of different lengths; the AOIs have more than limits::kMaxAoiVertices vertices together.
+/// xs and ys of different lengths; a coordinate beyond +-limits::kMaxAoiCoordinatePx; the AOIs have more than
+/// limits::kMaxAoiVertices vertices together.
 void validate_aois(const std::vector<Aoi>& aois);
 
 struct AoiStats {
