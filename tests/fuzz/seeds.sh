@@ -4,10 +4,10 @@
 # writes BUILD_DIR/fuzz-corpus/<harness>/ (the corpus each harness starts from and grows; `make fuzz`
 # runs it first). Each seed is a small cut of a real file (a few records, edges or lines), so that the
 # fuzzer's mutations stay fast; nothing of the data is copied into the repository. Seeds that need
-# TrailScope's own writers (a depth-video pack, tracker logs) come from the fuzz_seeds program.
-# Harnesses with no shared file of their kind (OpenSky CSV, od_csv, the request and control messages, the
-# uploaded flow field, the ClickHouse store URL)
-# start from the hand-written seeds committed in tests/fuzz/seeds/<harness>/ (run.sh adds them).
+# TrailScope's own writers (a depth-video pack, tracker logs, stored gaze files) come from the fuzz_seeds
+# program. Harnesses with no shared file of their kind (OpenSky CSV, od_csv, the request and control
+# messages, the uploaded flow field, the ClickHouse store URL, the AOI body) start from the hand-written
+# seeds committed in tests/fuzz/seeds/<harness>/ (run.sh adds them).
 set -euo pipefail
 build=${1:?usage: seeds.sh BUILD_DIR [SHARED]}
 here=$(cd "$(dirname "$0")" && pwd)
