@@ -1,25 +1,23 @@
 // The embedded store at 100 M points: a generated week of dense traffic (generate_demo_traffic's fleet
 // mode, demo_traffic.hpp: --aircraft aircraft flying leg after leg for 7 days, a sample every 120–180 s)
-// built in memory as the embedded store holds a dataset (a columnar TrailSet with its Web Mercator columns
-// and time index), optionally written into an EmbeddedStore folder and loaded back from it (--store DIR),
-// then queried: 1-hour window summaries (random hours, not aligned), the whole-week summary, cold 1-hour
-// density tiles (a new renderer each time, so the shared colour span is computed too, and a new hour
-// each time), each also by the plain scan (summarize_scan) for comparison. Memory per point is the
-// resident set's growth over the dataset (RSS before and after) divided by its points, and the largest
+// built in memory as the embedded store holds a loaded dataset (server/src/store/embedded_store.hpp: the
+// columnar TrailSet with its Web Mercator columns and time index, which its loader builds exactly so from
+// the column files), then queried: 1-hour window summaries (random hours, not aligned), the whole-week
+// summary, cold 1-hour density tiles (a new renderer each time, so the shared colour span is computed too,
+// and a new hour each time), each also by the plain scan (summarize_scan) for comparison. Memory per point is
+// the resident set's growth over the dataset (RSS before and after) divided by its points, and the largest
 // dataset a machine holds follows from it.
 //
-//   week_bench [--aircraft 35000] [--days 7] [--seed 42] [--reps 30] [--store DIR] [--demo-source DIR]
-//              [--host-gib 24]
+//   week_bench [--aircraft 32000] [--days 7] [--seed 42] [--reps 30] [--demo-source DIR] [--host-gib 24]
+//              [--compare-tiles]
 //
-// Records: {"bench":"week_dataset"}, {"bench":"week_store"} (with --store), {"bench":"week_read","read":
+// Records: {"bench":"week_dataset"}, {"bench":"week_read","read":
 // "summary_1h"|"summary_week"|"tile_1h_cold"|..., "impl":"indexed"|"scan"}, {"bench":"week_memory"}.
 #include <fstream>
 #include <random>
 #include <unistd.h>
 
 #include "bench_util.hpp"
-#include "store/dataset_ingest.hpp"
-#include "store/embedded_store.hpp"
 #include "trailscope/density/renderer.hpp"
 #include "trailscope/geo/web_mercator.hpp"
 #include "trailscope/trails/summary.hpp"
@@ -51,7 +49,7 @@ ts::geo::TileId tile_at(double lon, double lat, int z) {
 int main(int argc, char** argv) {
   try {
     const Args a(argc, argv);
-    const auto aircraft = static_cast<std::size_t>(a.num("aircraft", 35000));
+    const auto aircraft = static_cast<std::size_t>(a.num("aircraft", 32000));
     const int days = static_cast<int>(a.num("days", 7));
     const auto seed = static_cast<std::uint64_t>(a.num("seed", 42));
     const int reps = static_cast<int>(a.num("reps", 30));
@@ -65,7 +63,7 @@ int main(int argc, char** argv) {
     o.sample_min_s = 120, o.sample_max_s = 180;
     const double rss0 = rss_mib();
     auto t = Clock::now();
-    auto set = std::make_shared<const ts::TrailSet>(ts::ingest::generate_demo_traffic(o));
+    const auto set = std::make_shared<const ts::TrailSet>(ts::ingest::generate_demo_traffic(o));
     const double gen_s = ms_since(t) / 1000.0;
     const double rss1 = rss_mib();
     const std::size_t points = set->num_points(), flights = set->num_flights();
@@ -98,42 +96,7 @@ int main(int argc, char** argv) {
           {"rss_before_mib", rss0},
           {"rss_after_mib", rss1}});
 
-    double rss_loaded = rss1, rss_base = rss0;
-    if (a.has("store")) {
-      // Into the embedded store's folder, then loaded back by a fresh store: the dataset as a server
-      // that starts on this folder holds it.
-      const std::filesystem::path dir = a.get("store");
-      std::filesystem::remove_all(dir);
-      auto ds = std::make_shared<ts::server::Dataset>();
-      ds->id = "week", ds->name = "week", ds->format = "demo", ds->created = ts::server::utc_now_iso();
-      ds->trails = set;
-      t = Clock::now();
-      {
-        ts::server::EmbeddedStore store(dir);
-        store.put(ds);
-      }
-      const double put_s = ms_since(t) / 1000.0;
-      ds.reset();
-      set.reset();
-      rss_base = rss_mib();
-      t = Clock::now();
-      ts::server::EmbeddedStore store(dir);
-      set = store.get("week")->trails;
-      const double load_s = ms_since(t) / 1000.0;
-      rss_loaded = rss_mib();
-      emit({{"bench", "week_store"},
-            {"points", points},
-            {"put_s", put_s},
-            {"put_points_per_s", static_cast<double>(points) / put_s},
-            {"load_s", load_s},
-            {"load_points_per_s", static_cast<double>(points) / load_s},
-            {"disk_bytes_per_point",
-             static_cast<double>(ts::server::EmbeddedStore::bytes_estimate(*store.get("week"))) /
-                 static_cast<double>(points)},
-            {"rss_before_mib", rss_base},
-            {"rss_after_mib", rss_loaded}});
-      std::filesystem::remove_all(dir);  // 3+ GB of column files: not kept
-    }
+    const double rss_loaded = rss1, rss_base = rss0;
     const ts::TrailSet& week = *set;
 
     // Random hours (not aligned to the hour) inside the span, the same list for both implementations.

@@ -266,8 +266,9 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
   const bool windowed = ix.valid() && (query.t0 || query.t1);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double t0 = query.t0.value_or(-kInf), t1 = query.t1.value_or(kInf);
-  const auto [fb, fe] =
+  const std::pair<std::size_t, std::size_t> range =
       windowed ? ix.flight_range(t0, t1) : std::pair<std::size_t, std::size_t>{0, flights.size()};
+  const std::size_t fb = range.first, fe = range.second;
 
   auto draw_flight = [&](const Flight& f, LineSegments& out) {
     if (f.size() < 2 || !query.may_match(f) || !may_meet(f)) return;

@@ -89,7 +89,7 @@ void add_demo(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "random seed (same seed, same data)")->capture_default_str();
   cmd->add_option("--aircraft", o->fleet.aircraft,
                   "fleet mode: this many aircraft fly leg after leg for --days days (instead of --flights "
-                  "flights on one day); 25,000 in the air at once is ~35,000 aircraft")
+                  "flights on one day); 25,000 in the air at once is ~32,000 aircraft")
       ->check(CLI::Range(std::size_t{1}, ingest::kMaxDemoAircraft));
   cmd->add_option("--days", o->fleet.days, "fleet mode: days to generate")
       ->capture_default_str()

@@ -179,8 +179,6 @@ class FleetIndex : public ::testing::Test {
 TEST_F(EuropeIndex, CountsMatchTheirPoints) {
   check_index(europe());
 }
-check_index(europe());
-}
 TEST_F(EuropeIndex, SummaryEqualsTheScan) {
   check_summaries(europe(), 1, 60);
 }

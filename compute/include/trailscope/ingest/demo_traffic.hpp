@@ -45,8 +45,8 @@ inline constexpr int kMaxDemoDays = 31;
 /// first minute, and samples outside [day_start, day_start + days·86400) are dropped. Each aircraft keeps
 /// one icao24 and one airline; its flight numbers count up leg by leg, so every leg is its own Flight. At
 /// any instant about aircraft × (mean leg time) / (mean leg time + mean turnaround) are in the air or
-/// taxiing. With 5–10 s sampling a leg has ~860 points; a week of dense traffic at one point per 2–3 min
-/// (sample 120–180 s) is ~100 M points for 25,000 aircraft in flight at once.
+/// taxiing: ~79 % with the default turnaround (the routes favour short hops, ~11 legs a day). A week of
+/// dense traffic, 32,000 aircraft (~25,000 at once) sampled every 120–180 s, is ~100 M points.
 struct DemoOptions {
   std::string airports_csv;     ///< path of vega-datasets data/airports.csv
   std::string routes_csv;       ///< path of vega-datasets data/flights-airport.csv
