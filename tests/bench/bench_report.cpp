@@ -1269,16 +1269,21 @@ int main(int argc, char** argv) {
            << grouped(d, "flights") << " legs, **" << grouped(d, "points")
            << " points**, generated and indexed in " << num(dbl(d, "generate_s"), 1) << " s ("
            << grouped(d, "points_per_s") << " points/s)";
-      body << ". Reads in process (`summarize()`, `DensityRenderer::render_tile()`): **indexed** is the "
-              "default path (the time index, `trails/time_index.hpp`: the window's flights and points only, "
-              "whole hours from counts made at construction), **scan** the plain pass over every flight "
-              "(`summarize_scan()`; for the tile, the same flights without an index). 1-hour windows start "
-              "at random instants (not on the hour); each cold tile is a new renderer (its colour span "
-              "computed) and a new hour, z 5 over Chicago, 256 px.\n\n"
-              "| read | path | runs | p50 | p95 | max |\n|---|---|---|---|---|---|\n";
+      body
+          << ". Reads in process (`summarize()`, `DensityRenderer::render_tile()`): **indexed** is the "
+             "default path (the time index, `trails/time_index.hpp`: the window's flights and points only, "
+             "whole hours from counts made at construction), **scan** the plain pass over every flight "
+             "(`summarize_scan()`; for the tile, the same flights without an index). 1-hour windows start "
+             "at random instants (not on the hour); each cold tile is a new renderer (its colour span "
+             "computed) and a new hour, z 5 over Chicago, 256 px.\n\n"
+             "CPU is the process's CPU time over the read (all threads; less than wall time × threads "
+             "when the machine is shared and the threads wait for a core), load the 1-minute load "
+             "average when the read began.\n\n"
+             "| read | path | runs | p50 | p95 | max | CPU p50 | load |\n|---|---|---|---|---|---|---|---|\n";
       for (const json* r : find("week_read"))
         body << "| " << str(r, "read") << " | " << str(r, "impl") << " | " << str(r, "reps") << " | "
-             << ms(r, "ms_p50") << " ms | " << ms(r, "ms_p95") << " ms | " << ms(r, "ms_max") << " ms |\n";
+             << ms(r, "ms_p50") << " ms | " << ms(r, "ms_p95") << " ms | " << ms(r, "ms_max") << " ms | "
+             << ms(r, "cpu_ms_p50") << " ms | " << num(dbl(r, "load1"), 1) << " |\n";
       if (mem)
         body << "\nMemory: the resident set grew by **" << num(dbl(mem, "bytes_per_point"), 1)
              << " bytes per point** over the loaded dataset (columns " << str(mem, "column_bytes_per_point")

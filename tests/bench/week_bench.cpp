@@ -15,6 +15,7 @@
 // "summary_1h"|"summary_week"|"tile_1h_cold"|..., "impl":"indexed"|"scan"}, {"bench":"week_memory"}.
 #include <fstream>
 #include <random>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "bench_util.hpp"
@@ -34,6 +35,23 @@ double rss_mib() {
   long long size = 0, resident = 0;
   in >> size >> resident;
   return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+// CPU time of this process so far (all threads), ms: on a shared machine the wall time of a read also
+// holds the time its threads waited for a core.
+double cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return (static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 +
+          static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e3);
+}
+
+// The 1-minute load average.
+double load1() {
+  std::ifstream in("/proc/loadavg");
+  double l = 0;
+  in >> l;
+  return l;
 }
 
 ts::geo::TileId tile_at(double lon, double lat, int z) {
@@ -111,13 +129,16 @@ int main(int argc, char** argv) {
     };
     std::uint64_t check = 0;
     const auto timed = [&](const std::string& read, const std::string& impl, int n, auto&& fn) {
-      std::vector<double> v;
+      std::vector<double> v, cpu;
+      const double load = load1();
       for (int i = 0; i < n; ++i) {
+        const double c0 = cpu_ms();
         const auto t0 = Clock::now();
         check += fn(i);
         v.push_back(ms_since(t0));
+        cpu.push_back(cpu_ms() - c0);
       }
-      const Stats s = Stats::of(v);
+      const Stats s = Stats::of(v), c = Stats::of(cpu);
       emit({{"bench", "week_read"},
             {"read", read},
             {"impl", impl},
@@ -125,8 +146,11 @@ int main(int argc, char** argv) {
             {"ms_p50", s.p50},
             {"ms_p95", s.p95},
             {"ms_min", s.min},
-            {"ms_max", s.max}});
-      log(read + " " + impl + ": p50 " + std::to_string(s.p50) + " ms");
+            {"ms_max", s.max},
+            {"cpu_ms_p50", c.p50},
+            {"load1", load}});
+      log(read + " " + impl + ": p50 " + std::to_string(s.p50) + " ms (CPU " + std::to_string(c.p50) +
+          " ms, load " + std::to_string(load) + ")");
       return s;
     };
     // The indexed path must answer what the scan answers (points and flights of a few windows).

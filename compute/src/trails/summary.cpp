@@ -323,20 +323,16 @@ Summary summarize_impl(const TrailSet& set, const Query& q, const SummaryOptions
     // Flights and busiest callsigns by the index's callsign ids instead of a map of names.
     const auto& ids = ix->callsign_ids();
     const auto& names = ix->callsign_names();
-    std::vector<Summary::CallsignCount> by_id(names.size());
+    std::vector<std::uint64_t> id_flights(names.size()), id_points(names.size());
     for (std::size_t fi = fb; fi < fe; ++fi) {
       const std::uint32_t n = matched[fi - fb];
       if (!n) continue;
       ++s.flights;
-      auto& cc = by_id[ids[fi]];
-      ++cc.flights, cc.points += n;
+      ++id_flights[ids[fi]], id_points[ids[fi]] += n;
     }
     std::vector<Summary::CallsignCount> all;
-    for (std::size_t i = 0; i < by_id.size(); ++i)
-      if (by_id[i].flights && !names[i].empty()) {
-        by_id[i].callsign = names[i];
-        all.push_back(std::move(by_id[i]));
-      }
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (id_flights[i] && !names[i].empty()) all.push_back({names[i], id_flights[i], id_points[i]});
     s.top_callsigns = busiest(std::move(all), opts.top_callsigns);
     return s;
   }

@@ -56,18 +56,19 @@ TimeIndex::TimeIndex(const PointColumns& p, const std::vector<Flight>& flights) 
     run = std::max(run, f.t_max);
     run_max_[i] = run;
     lo = std::min(lo, f.t_min);
+    crosses_ = crosses_ || f.crosses_antimeridian;
     if (!std::isnan(f.alt_max)) top_alt_m_ = std::max<double>(top_alt_m_, f.alt_max);
   }
   const double hi = run;
 
-  // Buckets of whole hours (several when the span is long), cells of whole minutes, both from a multiple
-  // of the bucket width.
-  const double hours = std::floor(hi / 3600) - std::floor(lo / 3600) + 1;
-  const double k = std::max(1.0, std::ceil(hours / static_cast<double>(kMaxBuckets)));
-  bucket_s_ = 3600 * k, fine_s_ = 60 * k;
+  // Buckets of 10 minutes (a multiple when the span is long: at most kMaxBuckets), cells of a tenth of a
+  // bucket (a minute), both from a multiple of the bucket width.
+  const double tens = std::floor(hi / 600) - std::floor(lo / 600) + 1;
+  const double k = std::max(1.0, std::ceil(tens / static_cast<double>(kMaxBuckets)));
+  bucket_s_ = 600 * k, fine_s_ = 60 * k;
   origin_ = std::floor(lo / bucket_s_) * bucket_s_;
   const auto nb = static_cast<std::size_t>(std::floor((hi - origin_) / bucket_s_)) + 1;
-  const std::size_t cells_per_bucket = 60, ncell = nb * cells_per_bucket;
+  const std::size_t cells_per_bucket = 10, ncell = nb * cells_per_bucket;
 
   // Altitude bins exactly as summarize() lays them out for this set, in both units.
   SummaryOptions ft, m;

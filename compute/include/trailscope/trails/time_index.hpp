@@ -5,19 +5,19 @@
 //  - the flights' start order (TrailSetBuilder gives flights in start order) with a running maximum of
 //    their end times: the flights that may meet [t0, t1) are one index range, found by two binary
 //    searches; within a flight the points of the window are one range too (points are time-sorted);
-//  - per time bucket (bucket_seconds(), an hour for data spanning up to kMaxBuckets hours, else a multiple
-//    of an hour) the additive part of a summary of all its points: count, first and last time, altitude
-//    histograms in both units (ft and m) over the bins summarize() uses for this set, the speed histogram
-//    of 0.25 m/s bins, and the known-speed count, sum, min and max; plus point counts per fine cell
-//    (fine_seconds(), a minute when buckets are hours), from which any time histogram whose bins are
-//    whole multiples of a fine cell follows exactly;
+//  - per time bucket (bucket_seconds(), 10 minutes for data spanning up to kMaxBuckets of them (a week),
+//    else a multiple of 10 minutes) the additive part of a summary of all its points: count, first and last
+//    time, altitude histograms in both units (ft and m) over the bins summarize() uses for this set, the
+//    speed histogram of 0.25 m/s bins, and the known-speed count, sum, min and max; plus point counts per
+//    fine cell (fine_seconds(), a minute when buckets are hours), from which any time histogram whose bins
+//    are whole multiples of a fine cell follows exactly;
 //  - every implausible value check_quality() can report (trails/quality.hpp) with the time of its sample
 //    and, for a jump, of the sample before it: the quality of a time window is the events inside it.
 // The fast summary (summary.cpp) adds the whole buckets inside a window and scans only the partial
 // buckets at its two ends; its answer equals the scan's in every field (the speed mean up to the order of
 // a floating-point sum, which the scan's own parallel reduction does not fix either).
-// Memory: 16 bytes per flight (start time, running maximum) + 4 per flight (callsign id) + per bucket ~9.6
-// KiB (the speed histogram) + 4 bytes per fine cell + 32 bytes per quality event; under 0.2 bytes per point
+// Memory: 16 bytes per flight (start time, running maximum) + 4 per flight (callsign id) + per bucket
+// ~10 KiB (the speed histogram) + 4 bytes per fine cell + 32 bytes per quality event: ~0.5 bytes per point
 // for a week of dense traffic.
 #include <cstddef>
 #include <cstdint>
@@ -32,7 +32,7 @@ struct Flight;
 
 class TimeIndex {
  public:
-  /// Most time buckets; longer spans get buckets of several hours (so a year has 9-hour buckets).
+  /// Most time buckets; longer spans get wider ones (a year: 9-hour buckets of 54-minute cells).
   static constexpr std::size_t kMaxBuckets = 1024;
   /// The index keeps quality events only while they are at most this fraction of the points (real data
   /// has a handful per flight at worst); beyond it summaries take the plain scan (`quality_indexed()`).
@@ -67,6 +67,8 @@ class TimeIndex {
   std::pair<std::size_t, std::size_t> flight_range(double t0, double t1) const;
   /// Highest known altitude of the set (metres, 0 when none): what summarize() sizes its histogram by.
   double top_alt_m() const { return top_alt_m_; }
+  /// Some flight crosses the antimeridian (Flight::crosses_antimeridian).
+  bool any_crosses_antimeridian() const { return crosses_; }
 
   double origin() const { return origin_; }  ///< start of bucket 0 and of fine cell 0 (Unix s)
   double bucket_seconds() const { return bucket_s_; }
@@ -86,7 +88,7 @@ class TimeIndex {
   std::size_t bytes() const;
 
  private:
-  bool valid_ = false, quality_indexed_ = false;
+  bool valid_ = false, quality_indexed_ = false, crosses_ = false;
   std::vector<double> t_min_, run_max_;  ///< per flight in order: start time, max end time so far
   double top_alt_m_ = 0;
   double origin_ = 0, bucket_s_ = 3600, fine_s_ = 60;
