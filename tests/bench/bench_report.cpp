@@ -1244,6 +1244,59 @@ int main(int argc, char** argv) {
       body << "\n";
     }
 
+    // ---- 16. the embedded store at 100 M points (week_bench) --------------------------------------------
+    if (const json* d = find1("week_dataset")) {
+      const json* mem = find1("week_memory");
+      const auto read = [&](const std::string& r, const std::string& impl) {
+        return find1("week_read", {{"read", r}, {"impl", impl}});
+      };
+      const auto target = [&](const std::string& r, const std::string& what, double limit) {
+        const json* x = read(r, "indexed");
+        const double v = dbl(x, "ms_p50");
+        targets.push_back({"16", what + " (" + grouped(d, "points") + " points)",
+                           "≤ " + num(limit, 0) + " ms", ms(v) + " ms", std::isfinite(v) && v <= limit});
+      };
+      target("summary_1h", "embedded store: 1-hour window summary p50", 20);
+      target("tile_1h_cold", "embedded store: cold 1-hour tile p50", 30);
+      target("summary_week", "embedded store: whole-week summary p50", 200);
+      body << "## 16. The embedded store at 100 M points\n\n"
+              "`week_bench`: a generated week of dense traffic (`generate_demo_traffic` fleet mode, "
+              "`trailscope demo --aircraft N --days 7`): "
+           << grouped(d, "aircraft") << " aircraft flying leg after leg for " << str(d, "days")
+           << " days, one sample every " << str(d, "sample_s") << " s; " << grouped(d, "simultaneous_p50")
+           << " aircraft in the air or taxiing at once (median of 200 instants; "
+           << grouped(d, "simultaneous_min") << "–" << grouped(d, "simultaneous_max") << "), "
+           << grouped(d, "flights") << " legs, **" << grouped(d, "points")
+           << " points**, generated and indexed in " << num(dbl(d, "generate_s"), 1) << " s ("
+           << grouped(d, "points_per_s") << " points/s)";
+      body
+          << ". Reads in process (`summarize()`, `DensityRenderer::render_tile()`): **indexed** is the "
+             "default path (the time index, `trails/time_index.hpp`: the window's flights and points only, "
+             "whole hours from counts made at construction), **scan** the plain pass over every flight "
+             "(`summarize_scan()`; for the tile, the same flights without an index). 1-hour windows start "
+             "at random instants (not on the hour); each cold tile is a new renderer (its colour span "
+             "computed) and a new hour, z 5 over Chicago, 256 px.\n\n"
+             "CPU is the process's CPU time over the read (all threads; less than wall time × threads "
+             "when the machine is shared and the threads wait for a core), load the 1-minute load "
+             "average when the read began.\n\n"
+             "| read | path | runs | p50 | p95 | max | CPU p50 | load |\n|---|---|---|---|---|---|---|---|\n";
+      for (const json* r : find("week_read"))
+        body << "| " << str(r, "read") << " | " << str(r, "impl") << " | " << str(r, "reps") << " | "
+             << ms(r, "ms_p50") << " ms | " << ms(r, "ms_p95") << " ms | " << ms(r, "ms_max") << " ms | "
+             << ms(r, "cpu_ms_p50") << " ms | " << num(dbl(r, "load1"), 1) << " |\n";
+      if (mem)
+        body << "\nMemory: the resident set grew by **" << num(dbl(mem, "bytes_per_point"), 1)
+             << " bytes per point** over the loaded dataset (columns " << str(mem, "column_bytes_per_point")
+             << " bytes: t 8, six floats, on_ground 1, Web Mercator x and y 8; time index "
+             << num(dbl(mem, "index_bytes_per_point"), 2)
+             << "; the rest the flights, their names and the allocator). One machine therefore holds about **"
+             << grouped(dbl(mem, "largest_points_host") / 1e6) << " M points** with " << str(mem, "host_gib")
+             << " GiB (this one) and **" << grouped(dbl(mem, "largest_points_128gib") / 1e6)
+             << " M points** with 128 GiB (4 GiB kept for the system and caches; one dataset holds at most "
+                "2^32 − 1 points, its point ranges being 32-bit). Peak RSS of the run "
+             << grouped(mem, "peak_rss_mib") << " MiB.\n\n";
+    }
+
     // ---- fuzzing: the long run of every libFuzzer harness (tests/fuzz, `make fuzz-long`) ----------------
     // Not measured by this script: each `make fuzz-long` appends one segment per harness to
     // tests/fuzz/long_run.jsonl (tests/fuzz/run.sh --long), which is committed and shown here when present

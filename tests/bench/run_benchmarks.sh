@@ -303,6 +303,13 @@ FLOW_REPS=5
 [ "${BENCH_QUICK:-0}" = 1 ] && FLOW_REPS=2
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target flow_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
 run "$B/flow_bench" --file "$SO6" --reps "$FLOW_REPS"
+# --- the embedded store at 100 M points: a generated week of dense traffic (~25,000 aircraft in the air) ---
+say "5g. the embedded store at 100 M points: a generated week (fleet mode), held as the store holds it, queried"
+WEEK_AIRCRAFT=${BENCH_WEEK_AIRCRAFT:-32000} WEEK_DAYS=7 WEEK_REPS=30
+[ "${BENCH_QUICK:-0}" = 1 ] && WEEK_AIRCRAFT=${BENCH_WEEK_AIRCRAFT:-2000} WEEK_DAYS=2 WEEK_REPS=5
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target week_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
+run "$B/week_bench" --aircraft "$WEEK_AIRCRAFT" --days "$WEEK_DAYS" --reps "$WEEK_REPS" \
+  --host-gib "$(awk '/MemTotal/ { printf "%d", $2 / 1048576 + 0.5 }' /proc/meminfo)"
 
 # ---------------------------------------------------------------------------------------------------
 PORT=$(free_port "$PORT" 1)

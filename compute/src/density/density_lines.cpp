@@ -16,6 +16,7 @@
 // considers GPUs and accelerators only, from kAutoOpenClMinSegments segments (a threshold chosen
 // without a GPU measurement yet: revisit it with tests/bench on one).
 #include "trailscope/trails/point_filter.hpp"
+#include "trailscope/trails/time_index.hpp"
 #include "trailscope/density/density_lines.hpp"
 
 #include <tbb/parallel_for.h>
@@ -258,11 +259,32 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
   const std::int64_t ox = canvas.origin_x(), oy = canvas.origin_y();
   const std::int64_t last_col = canvas.width() - 1, last_row = canvas.height() - 1;
 
+  // A time window with the set's time index (trails/time_index.hpp): only the flights that may meet it,
+  // and of each only its points from the first inside it (the points before fail the window, so no
+  // segment before it is drawn and the run starts there, exactly as a walk from the flight's start gives).
+  const TimeIndex& ix = trails.time_index();
+  const bool windowed = ix.valid() && (query.t0 || query.t1);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double t0 = query.t0.value_or(-kInf), t1 = query.t1.value_or(kInf);
+  const std::pair<std::size_t, std::size_t> range =
+      windowed ? ix.flight_range(t0, t1) : std::pair<std::size_t, std::size_t>{0, flights.size()};
+  const std::size_t fb = range.first, fe = range.second;
+
   auto draw_flight = [&](const Flight& f, LineSegments& out) {
     if (f.size() < 2 || !query.may_match(f) || !may_meet(f)) return;
-    bool prev_ok = every_point || matches(pts, f.begin);
+    std::uint32_t first = f.begin, last = f.end;
+    if (windowed) {
+      if (t0 > f.t_min)
+        first = static_cast<std::uint32_t>(
+            std::lower_bound(pts.t.begin() + f.begin, pts.t.begin() + f.end, t0) - pts.t.begin());
+      if (t1 <= f.t_max)
+        last = static_cast<std::uint32_t>(std::lower_bound(pts.t.begin() + first, pts.t.begin() + f.end, t1) -
+                                          pts.t.begin());
+      if (last - first < 2) return;
+    }
+    bool prev_ok = every_point || matches(pts, first);
     bool prev_drawn = false;
-    for (std::uint32_t i = f.begin + 1; i < f.end; ++i) {
+    for (std::uint32_t i = first + 1; i < last; ++i) {
       const bool ok = every_point || matches(pts, i);
       const bool draw = ok && prev_ok && pts.t[i] - pts.t[i - 1] <= max_gap_seconds;
       if (draw) {
@@ -295,11 +317,11 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
   // Fixed chunks of flights, concatenated in chunk order: the segment order (and so the result, though
   // integer sums would not care) does not depend on the thread count.
   constexpr std::size_t kChunk = 256;
-  const std::size_t chunks = (flights.size() + kChunk - 1) / kChunk;
+  const std::size_t chunks = (fe - fb + kChunk - 1) / kChunk;
   std::vector<LineSegments> parts(chunks, LineSegments::for_canvas(canvas, with_value));
   auto run_chunk = [&](std::size_t c) {
-    const std::size_t end = std::min(flights.size(), (c + 1) * kChunk);
-    for (std::size_t f = c * kChunk; f < end; ++f) draw_flight(flights[f], parts[c]);
+    const std::size_t end = std::min(fe, fb + (c + 1) * kChunk);
+    for (std::size_t f = fb + c * kChunk; f < end; ++f) draw_flight(flights[f], parts[c]);
   };
   if (chunks > 1 && trails.num_points() >= 20000) {
     tbb::parallel_for(std::size_t{0}, chunks, run_chunk);

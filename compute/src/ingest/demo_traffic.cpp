@@ -329,16 +329,226 @@ double cruise_altitude(double distance_m, double azimuth, Rng& rng) {
   return kft * 1000 * kFeet;
 }
 
+// --- fleet mode: aircraft flying leg after leg over several days
+// ---------------------------------------------
+
+// Flight extents exactly as TrailSetBuilder computes them.
+void flight_extents(Flight& fl, const PointColumns& cols) {
+  fl.t_min = cols.t[fl.begin], fl.t_max = cols.t[fl.end - 1];
+  fl.lat_min = fl.lon_min = fl.alt_min = std::numeric_limits<float>::infinity();
+  fl.lat_max = fl.lon_max = fl.alt_max = -std::numeric_limits<float>::infinity();
+  for (std::uint32_t j = fl.begin; j < fl.end; ++j) {
+    fl.lat_min = std::min(fl.lat_min, cols.lat[j]), fl.lat_max = std::max(fl.lat_max, cols.lat[j]);
+    fl.lon_min = std::min(fl.lon_min, cols.lon[j]), fl.lon_max = std::max(fl.lon_max, cols.lon[j]);
+    fl.alt_min = std::min(fl.alt_min, cols.alt[j]), fl.alt_max = std::max(fl.alt_max, cols.alt[j]);
+    if (j > fl.begin && std::fabs(cols.lon[j] - cols.lon[j - 1]) > 180.0f) fl.crosses_antimeridian = true;
+  }
+}
+
+// One sample into row i of the columns.
+void write_sample(PointColumns& cols, std::uint32_t i, double t, double lat, double lon, double azi,
+                  double alt, double speed, double vrate, bool on_ground) {
+  cols.t[i] = t;
+  cols.lat[i] = static_cast<float>(lat);
+  cols.lon[i] = static_cast<float>(lon);
+  if (cols.lon[i] >= 180.0f) cols.lon[i] = -180.0f;
+  cols.alt[i] = static_cast<float>(alt);
+  cols.speed[i] = static_cast<float>(speed);
+  cols.track[i] = static_cast<float>(azi);
+  if (cols.track[i] >= 360.0f) cols.track[i] = 0.0f;
+  cols.vrate[i] = static_cast<float>(vrate);
+  cols.on_ground[i] = on_ground ? 1 : 0;
+}
+
+struct FleetInputs {
+  const std::vector<Airport>& airports;
+  const std::vector<Route>& routes;
+  const std::vector<double>& cumulative;  // of route counts, for the first leg and dead ends
+  std::uint64_t icao_offset;
+};
+
+// The fleet: aircraft a (0 ≤ a < opts.aircraft) has the address kIcaoFirst + (a·P + o) mod N (distinct
+// aircraft, distinct addresses), one airline (by market share) and flight numbers that count up from a
+// random one, leg after leg, so (icao24, callsign) never repeats and every leg is one Flight. Its first
+// off-block time lies up to 6 h before the first day, so that the fleet is already airborne at its start;
+// each next leg leaves from where the last one landed (a route out of that airport, ∝ count; any route
+// when none leaves it) after a turnaround of opts.turnaround_min_s..max_s at the gate, where the aircraft
+// does not report. Samples outside [day_start, day_start + days) are dropped (a leg with fewer than two
+// left is dropped whole). Two RNG streams per aircraft keep legs independent: the aircraft's own (airline,
+// routes, turnarounds) and one per leg (cruise level, the flight model, the sampling), so pass 2 can
+// regenerate any leg from its header alone.
+TrailSet generate_fleet(const DemoOptions& opts, const FleetInputs& in, ProgressFn progress) {
+  const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
+  const auto& airports = in.airports;
+  const auto& routes = in.routes;
+  // Routes by origin, with cumulative counts, for the next leg out of an airport.
+  std::vector<std::vector<std::uint32_t>> out_routes(airports.size());
+  std::vector<std::vector<double>> out_cumulative(airports.size());
+  for (std::uint32_t r = 0; r < routes.size(); ++r) {
+    out_routes[routes[r].origin].push_back(r);
+    auto& c = out_cumulative[routes[r].origin];
+    c.push_back((c.empty() ? 0.0 : c.back()) + routes[r].count);
+  }
+  std::vector<double> airline_cumulative;
+  for (const Airline& a : kAirlines)
+    airline_cumulative.push_back((airline_cumulative.empty() ? 0 : airline_cumulative.back()) + a.share);
+
+  const double start = opts.day_start, end = opts.day_start + 86400.0 * opts.days;
+  struct Leg {
+    double off_block = 0, first = 0;  // first: time of the first sample kept
+    std::uint32_t count = 0, route = 0;
+    std::uint64_t seed = 0;
+    char icao24[8], callsign[12];
+  };
+  auto leg_geodesic = [&](const Route& r) {
+    const Airport &o = airports[r.origin], &d = airports[r.destination];
+    return geod.InverseLine(o.lat, o.lon, d.lat, d.lon,
+                            GeographicLib::Geodesic::LATITUDE | GeographicLib::Geodesic::LONGITUDE |
+                                GeographicLib::Geodesic::AZIMUTH | GeographicLib::Geodesic::DISTANCE_IN);
+  };
+  // Runs leg `g` from off-block to on-block, calling emit(t, model) for every sample inside [start, end).
+  // Returns the on-block time.
+  auto simulate = [&](const Leg& g, const GeographicLib::GeodesicLine& line, auto&& emit) {
+    Rng rng(g.seed);
+    const double cruise = cruise_altitude(line.Distance(), line.Azimuth(), rng);
+    FlightModel model(line.Distance(), rng, cruise);
+    double t = g.off_block;
+    if (t >= start && t < end) emit(t, model);
+    while (!model.finished()) {
+      const double dt = rng.uniform(opts.sample_min_s, opts.sample_max_s);
+      model.advance(dt);
+      t += dt;
+      if (t >= start && t < end) emit(t, model);
+    }
+    return t;
+  };
+
+  // Pass 1: every aircraft's legs, in sequence (a leg starts where and after the last one ended).
+  const std::size_t n = opts.aircraft;
+  std::vector<std::vector<Leg>> legs_of(n);
+  std::atomic<std::size_t> done{0};
+  constexpr std::size_t kChunk = 1024;
+  for (std::size_t first = 0; first < n; first += kChunk) {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(first, std::min(n, first + kChunk), 4), [&](const auto& r) {
+          for (std::size_t a = r.begin(); a != r.end(); ++a) {
+            Rng arng(opts.seed ^ (0x9e3779b97f4a7c15ull * (a + 1)) ^ 0xf1ee7f1ee7ull);
+            const Airline& al = kAirlines[pick(airline_cumulative, arng.uniform())];
+            const int numbers = al.number_max - al.number_min + 1;
+            const int base = arng.integer(0, numbers - 1);
+            char icao24[8];
+            std::snprintf(
+                icao24, sizeof icao24, "%06x",
+                kIcaoFirst + static_cast<std::uint32_t>((a * kIcaoStride + in.icao_offset) % kIcaoCount));
+            std::uint32_t route = static_cast<std::uint32_t>(pick(in.cumulative, arng.uniform()));
+            double off_block = start - arng.uniform(0, 6 * 3600.0);
+            auto& legs = legs_of[a];
+            for (std::uint32_t k = 0; off_block < end; ++k) {
+              Leg g;
+              g.off_block = off_block, g.route = route;
+              g.seed = arng.next();
+              std::memcpy(g.icao24, icao24, sizeof icao24);
+              std::snprintf(
+                  g.callsign, sizeof g.callsign, "%s%d", al.icao,
+                  al.number_min + static_cast<int>((base + k) % static_cast<std::uint32_t>(numbers)));
+              const auto line = leg_geodesic(routes[route]);
+              bool any = false;
+              const double on_block = simulate(g, line, [&](double t, const FlightModel&) {
+                if (!any) g.first = t, any = true;
+                ++g.count;
+              });
+              if (g.count >= 2) legs.push_back(g);
+              off_block = on_block + arng.uniform(opts.turnaround_min_s, opts.turnaround_max_s);
+              const std::uint32_t at = routes[route].destination;
+              route = out_routes[at].empty() ? static_cast<std::uint32_t>(pick(in.cumulative, arng.uniform()))
+                                             : out_routes[at][pick(out_cumulative[at], arng.uniform())];
+            }
+          }
+          done += r.size();
+        });
+    if (progress) progress(0.5 * static_cast<double>(done.load()) / static_cast<double>(n), "generate");
+  }
+
+  // Legs in the order TrailSetBuilder::build() gives flights: first sample, then icao24, then callsign.
+  std::vector<Leg> legs;
+  {
+    std::size_t total_legs = 0;
+    for (const auto& l : legs_of) total_legs += l.size();
+    legs.reserve(total_legs);
+    for (auto& l : legs_of) {
+      legs.insert(legs.end(), l.begin(), l.end());
+      std::vector<Leg>().swap(l);
+    }
+  }
+  std::sort(legs.begin(), legs.end(), [](const Leg& x, const Leg& y) {
+    if (x.first != y.first) return x.first < y.first;
+    if (const int c = std::strcmp(x.icao24, y.icao24)) return c < 0;
+    return std::strcmp(x.callsign, y.callsign) < 0;
+  });
+  std::vector<Flight> flights(legs.size());
+  std::uint64_t total = 0;
+  for (std::size_t k = 0; k < legs.size(); ++k) {
+    flights[k].icao24 = legs[k].icao24;
+    flights[k].callsign = legs[k].callsign;
+    flights[k].begin = static_cast<std::uint32_t>(total);
+    total += legs[k].count;
+    if (total > std::numeric_limits<std::uint32_t>::max())
+      throw Error(Error::Kind::payload_too_large, "aircraft", "a dataset holds at most 2^32-1 points");
+    flights[k].end = static_cast<std::uint32_t>(total);
+  }
+
+  // Pass 2: each leg again from its header, written straight into the columns (the store's own memory:
+  // no other copy of the points is ever made).
+  PointColumns cols;
+  cols.resize(total);
+  done = 0;
+  const std::size_t m = legs.size();
+  constexpr std::size_t kLegChunk = 16384;
+  for (std::size_t first = 0; first < m; first += kLegChunk) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(m, first + kLegChunk), 16),
+                      [&](const auto& r) {
+                        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                          Flight& fl = flights[k];
+                          const Leg& g = legs[k];
+                          const auto line = leg_geodesic(routes[g.route]);
+                          PathInterpolator path(line, 0.0);
+                          std::uint32_t i = fl.begin;
+                          simulate(g, line, [&](double t, const FlightModel& md) {
+                            double lat, lon, azi;
+                            path.at(md.s(), lat, lon, azi);
+                            write_sample(cols, i++, t, lat, lon, azi, md.altitude(), md.speed(), md.vrate(),
+                                         md.on_ground());
+                          });
+                          flight_extents(fl, cols);
+                        }
+                        done += r.size();
+                      });
+    if (progress) progress(0.5 + 0.5 * static_cast<double>(done.load()) / static_cast<double>(m), "generate");
+  }
+  std::vector<Leg>().swap(legs);
+  if (progress) progress(0.0, "assemble");
+  TrailSet set(std::move(cols), std::move(flights));
+  if (progress) progress(1.0, "assemble");
+  return set;
+}
+
 }  // namespace
 
 TrailSet generate_demo_traffic(const DemoOptions& opts, ProgressFn progress) {
-  if (opts.flights < 1 || opts.flights > 1000000)
+  if (opts.aircraft == 0 && (opts.flights < 1 || opts.flights > 1000000))
     throw invalid_argument("flights", "flights must be in 1..1000000, got " + std::to_string(opts.flights));
+  if (opts.aircraft > kMaxDemoAircraft)
+    throw invalid_argument("aircraft", "aircraft must be in 0..200000, got " + std::to_string(opts.aircraft));
+  if (opts.aircraft > 0 && (opts.days < 1 || opts.days > kMaxDemoDays))
+    throw invalid_argument("days", "days must be in 1..31, got " + std::to_string(opts.days));
+  if (opts.aircraft > 0 && !(opts.turnaround_min_s >= 0 && opts.turnaround_min_s <= opts.turnaround_max_s &&
+                             opts.turnaround_max_s <= 86400))
+    throw invalid_argument("turnaround", "turnaround must satisfy 0 <= min <= max <= 86400 seconds");
   if (!(opts.sample_min_s > 0) || !(opts.sample_min_s <= 600))
     throw invalid_argument("sample_min_s", "sample_min_s must be in (0, 600] seconds");
   if (!(opts.sample_max_s >= opts.sample_min_s) || !(opts.sample_max_s <= 600))
     throw invalid_argument("sample_max_s", "sample_max_s must be in [sample_min_s, 600] seconds");
-  if (!(opts.day_start >= 0 && opts.day_start < kMaxTime - 2 * 86400))
+  if (!(opts.day_start >= 0 && opts.day_start < kMaxTime - (2 + kMaxDemoDays) * 86400.0))
     throw invalid_argument("day_start", "day_start must be Unix seconds between 1970 and 2100");
 
   // Airports and routes.
@@ -384,6 +594,7 @@ TrailSet generate_demo_traffic(const DemoOptions& opts, ProgressFn progress) {
 
   std::uint64_t icao_seed = opts.seed ^ 0x5bd1e9955bd1e995ull;
   const std::uint64_t icao_offset = rng::splitmix64(icao_seed) % kIcaoCount;
+  if (opts.aircraft > 0) return generate_fleet(opts, {airports, routes, cumulative, icao_offset}, progress);
 
   // One flight, drawn from its own RNG: identity, route, schedule, and the model that produces its samples.
   // Constructing it twice for the same index gives the same flight (the two passes below rely on this).

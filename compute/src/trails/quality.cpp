@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
 #include "trailscope/trails/point_filter.hpp"
+#include "trailscope/trails/time_index.hpp"
 
 namespace trailscope {
 
@@ -106,6 +108,34 @@ QualityReport check_quality(const TrailSet& set, const Query& q) {
     counts[k]->count = total.n[k];
     counts[k]->examples = std::move(total.ex[k]);
     for (auto& e : counts[k]->examples) e.callsign = flights[e.flight_id].callsign;
+  }
+  return out;
+}
+
+QualityReport window_quality(const TrailSet& set, double t0, double t1) {
+  const TimeIndex& ix = set.time_index();
+  if (!ix.valid() || !ix.quality_indexed()) {
+    Query q;
+    if (t0 > -std::numeric_limits<double>::infinity()) q.t0 = t0;
+    if (t1 < std::numeric_limits<double>::infinity()) q.t1 = t1;
+    return check_quality(set, q);
+  }
+  const auto& ev = ix.events();
+  const auto by_t = [](const TimeIndex::Event& e, double t) { return e.t < t; };
+  const auto first = std::lower_bound(ev.begin(), ev.end(), t0, by_t);
+  const auto last = std::lower_bound(first, ev.end(), t1, by_t);
+  Acc acc;
+  // Both samples of a jump must pass the window, as in check_quality().
+  for (auto it = first; it != last; ++it)
+    if (it->kind != 2 || (it->t_prev >= t0 && it->t_prev < t1))
+      acc.add(it->kind, it->flight, it->t, it->value);
+  acc.trim();
+  QualityReport out;
+  QualityCount* counts[3] = {&out.speed, &out.altitude, &out.jumps};
+  for (int k = 0; k < 3; ++k) {
+    counts[k]->count = acc.n[k];
+    counts[k]->examples = std::move(acc.ex[k]);
+    for (auto& e : counts[k]->examples) e.callsign = set.flights()[e.flight_id].callsign;
   }
   return out;
 }

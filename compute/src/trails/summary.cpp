@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <unordered_map>
 
 #include <tbb/parallel_for.h>
@@ -16,6 +17,7 @@
 #include "trailscope/trails/export.hpp"
 #include "trailscope/trails/partial_reads.hpp"
 #include "trailscope/trails/point_filter.hpp"
+#include "trailscope/trails/time_index.hpp"
 
 namespace trailscope {
 
@@ -102,8 +104,10 @@ SummaryLayout summary_layout(const Query& q, const SummaryOptions& opts, double 
 SummaryCounts::SummaryCounts(const SummaryLayout& l, std::size_t flights)
     : time(l.time_bins), alt(l.alt_bins), speed(SummaryLayout::kSpeedBins), matched(flights, 0) {}
 
-Summary finish_summary(const SummaryLayout& l, const SummaryOptions& opts, SummaryCounts total,
-                       const std::vector<Flight>& flights, QualityReport quality) {
+namespace {
+// Everything of a summary but its flight count and busiest callsigns.
+Summary finish_counts(const SummaryLayout& l, const SummaryOptions& opts, SummaryCounts& total,
+                      QualityReport quality) {
   Summary s;
   s.points = total.points;
   if (total.points) s.t_min = total.t_min, s.t_max = total.t_max;
@@ -116,7 +120,24 @@ Summary finish_summary(const SummaryLayout& l, const SummaryOptions& opts, Summa
     s.speed.p50 = std::clamp(percentile(total.speed, total.speed_n, 0.50), s.speed.min, s.speed.max);
     s.speed.p95 = std::clamp(percentile(total.speed, total.speed_n, 0.95), s.speed.min, s.speed.max);
   }
+  s.quality = std::move(quality);
+  return s;
+}
 
+// The `top` busiest of the callsigns counted, by points then callsign (empty ones left out).
+std::vector<Summary::CallsignCount> busiest(std::vector<Summary::CallsignCount> all, int top) {
+  const std::size_t k = std::min<std::size_t>(top, all.size());
+  std::partial_sort(all.begin(), all.begin() + k, all.end(), [](const auto& a, const auto& b) {
+    return a.points != b.points ? a.points > b.points : a.callsign < b.callsign;
+  });
+  all.resize(k);
+  return all;
+}
+}  // namespace
+
+Summary finish_summary(const SummaryLayout& l, const SummaryOptions& opts, SummaryCounts total,
+                       const std::vector<Flight>& flights, QualityReport quality) {
+  Summary s = finish_counts(l, opts, total, std::move(quality));
   std::unordered_map<std::string_view, Summary::CallsignCount> by_callsign;
   for (std::size_t fi = 0; fi < flights.size() && fi < total.matched.size(); ++fi) {
     if (!total.matched[fi]) continue;
@@ -131,33 +152,68 @@ Summary finish_summary(const SummaryLayout& l, const SummaryOptions& opts, Summa
     c.callsign = std::string(name);
     all.push_back(std::move(c));
   }
-  const std::size_t k = std::min<std::size_t>(opts.top_callsigns, all.size());
-  std::partial_sort(all.begin(), all.begin() + k, all.end(), [](const auto& a, const auto& b) {
-    return a.points != b.points ? a.points > b.points : a.callsign < b.callsign;
-  });
-  all.resize(k);
-  s.top_callsigns = std::move(all);
-  s.quality = std::move(quality);
+  s.top_callsigns = busiest(std::move(all), opts.top_callsigns);
   return s;
 }
 
-Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
+namespace {
+// The scan of summarize_scan(), or with `ix` the same answer from the time index (time_index.hpp): only
+// the flights that may meet the window, and of each only its points in the partial buckets at the two
+// ends of the window; the whole buckets in between come from the index's counts.
+Summary summarize_impl(const TrailSet& set, const Query& q, const SummaryOptions& opts, const TimeIndex* ix) {
   const auto& pts = set.points();
   const auto& flights = set.flights();
   double top_alt = 0;
-  for (const Flight& f : flights)
-    if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
+  if (ix)
+    top_alt = ix->top_alt_m();
+  else
+    for (const Flight& f : flights)
+      if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
   const SummaryLayout l = summary_layout(q, opts, set.t_min(), set.t_max(), top_alt);
   const double t_origin = l.t_origin, bin = l.bin_seconds;
   const std::size_t time_bins = l.time_bins, alt_bins = l.alt_bins;
   const double alt_scale = l.alt_scale;
   const PointFilter filter(q);
   const double inv_bin = 1.0 / bin;
-  std::vector<std::uint32_t> matched(flights.size(), 0);
+
+  // With the index: the window [t0, t1), its whole buckets [b0, b1) spanning [ta, tb), and the flights
+  // that may meet it, [fb, fe). Whole buckets only serve when every time bin holds whole fine cells.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double t0 = q.t0.value_or(-kInf), t1 = q.t1.value_or(kInf);
+  std::size_t b0 = 0, b1 = 0, fb = 0, fe = flights.size();
+  double ta = t1, tb = t1;
+  if (ix) {
+    std::tie(fb, fe) = ix->flight_range(t0, t1);
+    const double o = ix->origin(), w = ix->bucket_seconds();
+    const std::size_t nb = ix->buckets().size();
+    const bool alt_fits =
+        (opts.alt_unit == AltUnit::ft ? ix->buckets()[0].alt_ft : ix->buckets()[0].alt_m).size() == alt_bins;
+    if (std::fmod(bin, ix->fine_seconds()) == 0 && alt_fits) {
+      const auto edge = [&](std::size_t k) { return o + static_cast<double>(k) * w; };
+      if (t0 > o) b0 = std::min<double>(nb, std::max(0.0, std::floor((t0 - o) / w)));
+      while (b0 > 0 && edge(b0 - 1) >= t0) --b0;
+      while (b0 < nb && edge(b0) < t0) ++b0;
+      b1 = t1 >= edge(nb) ? nb : static_cast<std::size_t>(std::max(0.0, std::floor((t1 - o) / w)));
+      while (b1 < nb && edge(b1 + 1) <= t1) ++b1;
+      while (b1 > 0 && edge(b1) > t1) --b1;
+      if (b1 > b0)
+        ta = edge(b0), tb = edge(b1);
+      else
+        b0 = b1 = 0;
+    }
+  }
+  std::vector<std::uint32_t> matched(fe - fb, 0);
+  // First point of flight f at or after t (f.end when none).
+  const auto lower = [&](const Flight& f, double t) -> std::size_t {
+    if (!(t > f.t_min)) return f.begin;
+    if (t > f.t_max) return f.end;
+    return static_cast<std::size_t>(std::lower_bound(pts.t.begin() + f.begin, pts.t.begin() + f.end, t) -
+                                    pts.t.begin());
+  };
 
   // One flight's points into an accumulator. Points are time-sorted, so the time bin only moves forward
   // and is advanced by comparison instead of a division per point. kAll: every point passes.
-  const auto scan = [&]<bool kAll>(const Flight& f, Acc& acc) -> std::uint32_t {
+  const auto scan = [&]<bool kAll>(std::size_t begin, std::size_t end, Acc& acc) -> std::uint32_t {
     std::uint32_t n = 0;
     std::size_t tb = 0;
     double edge = -std::numeric_limits<double>::infinity();
@@ -165,7 +221,7 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
     double vsum = 0;
     std::uint64_t vn = 0;
     double first = 0, last = 0;
-    for (std::size_t i = f.begin; i < f.end; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
       if constexpr (!kAll) {
         if (!filter(pts, i)) continue;
       }
@@ -206,13 +262,23 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
   };
 
   Acc total = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, flights.size(), 64), Acc(time_bins, alt_bins),
+      tbb::blocked_range<std::size_t>(fb, fe, 64), Acc(time_bins, alt_bins),
       [&](const tbb::blocked_range<std::size_t>& r, Acc acc) {
         for (std::size_t fi = r.begin(); fi != r.end(); ++fi) {
           const Flight& f = flights[fi];
           if (!q.may_match(f)) continue;
-          const std::uint32_t n = filter.contains(f) ? scan.template operator()<true>(f, acc)
-                                                     : scan.template operator()<false>(f, acc);
+          if (ix) {
+            // Time is the only filter: the window's points are one range, of which the parts outside
+            // the whole buckets are scanned.
+            const std::size_t i0 = lower(f, t0), i1 = lower(f, t1);
+            const std::size_t ia = std::max(i0, lower(f, ta)), ib = std::min(i1, std::max(ia, lower(f, tb)));
+            acc.points += scan.template operator()<true>(i0, ia, acc);
+            acc.points += scan.template operator()<true>(ib, i1, acc);
+            matched[fi - fb] = static_cast<std::uint32_t>(i1 - i0);
+            continue;
+          }
+          const std::uint32_t n = filter.contains(f) ? scan.template operator()<true>(f.begin, f.end, acc)
+                                                     : scan.template operator()<false>(f.begin, f.end, acc);
           matched[fi] = n;
           acc.points += n;
         }
@@ -222,6 +288,54 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
         a.merge(b);
         return a;
       });
+  if (ix) {
+    // The whole buckets, from the index.
+    const auto& buckets = ix->buckets();
+    for (std::size_t j = b0; j < b1; ++j) {
+      const TimeIndex::Bucket& k = buckets[j];
+      if (!k.points) continue;
+      total.points += k.points;
+      total.t_min = std::min(total.t_min, k.t_first), total.t_max = std::max(total.t_max, k.t_last);
+      total.speed_n += k.speed_n, total.speed_sum += k.speed_sum;
+      total.speed_min = std::min(total.speed_min, k.speed_min);
+      total.speed_max = std::max(total.speed_max, k.speed_max);
+      const auto& alt = opts.alt_unit == AltUnit::ft ? k.alt_ft : k.alt_m;
+      for (std::size_t i = 0; i < alt_bins; ++i) total.alt[i] += alt[i];
+      for (std::size_t i = 0; i < total.speed.size(); ++i) total.speed[i] += k.speed[i];
+    }
+    // Fine cells into time bins: a cell [s, s + fine) lies in one bin, as bins are whole cells from a
+    // multiple of their width.
+    const auto& fine = ix->fine_counts();
+    const double fw = ix->fine_seconds();
+    const std::size_t per = fine.size() / buckets.size();
+    for (std::size_t c = b0 * per; c < b1 * per; ++c) {
+      if (!fine[c]) continue;
+      const double start = ix->origin() + static_cast<double>(c) * fw;
+      const double k = std::floor((start - t_origin) / bin);
+      total.time[static_cast<std::size_t>(std::clamp(k, 0.0, static_cast<double>(time_bins - 1)))] += fine[c];
+    }
+    SummaryCounts c;
+    c.points = total.points, c.t_min = total.t_min, c.t_max = total.t_max;
+    c.time = std::move(total.time), c.alt = std::move(total.alt), c.speed = std::move(total.speed);
+    c.speed_n = total.speed_n, c.speed_sum = total.speed_sum;
+    c.speed_min = total.speed_min, c.speed_max = total.speed_max;
+    Summary s = finish_counts(l, opts, c, window_quality(set, t0, t1));
+    // Flights and busiest callsigns by the index's callsign ids instead of a map of names.
+    const auto& ids = ix->callsign_ids();
+    const auto& names = ix->callsign_names();
+    std::vector<std::uint64_t> id_flights(names.size()), id_points(names.size());
+    for (std::size_t fi = fb; fi < fe; ++fi) {
+      const std::uint32_t n = matched[fi - fb];
+      if (!n) continue;
+      ++s.flights;
+      ++id_flights[ids[fi]], id_points[ids[fi]] += n;
+    }
+    std::vector<Summary::CallsignCount> all;
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (id_flights[i] && !names[i].empty()) all.push_back({names[i], id_flights[i], id_points[i]});
+    s.top_callsigns = busiest(std::move(all), opts.top_callsigns);
+    return s;
+  }
   SummaryCounts c;
   c.points = total.points, c.t_min = total.t_min, c.t_max = total.t_max;
   c.time = std::move(total.time), c.alt = std::move(total.alt), c.speed = std::move(total.speed);
@@ -229,6 +343,19 @@ Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opt
   c.speed_min = total.speed_min, c.speed_max = total.speed_max;
   c.matched = std::move(matched);
   return finish_summary(l, opts, std::move(c), flights, check_quality(set, q));
+}
+}  // namespace
+
+Summary summarize_scan(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
+  return summarize_impl(set, q, opts, nullptr);
+}
+
+Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts) {
+  const TimeIndex& ix = set.time_index();
+  // The index serves time windows only: any other filter takes the scan.
+  const bool time_only =
+      !q.bbox && !q.alt_min && !q.alt_max && q.icao24.empty() && q.callsign.empty() && !q.on_ground;
+  return summarize_impl(set, q, opts, ix.valid() && time_only ? &ix : nullptr);
 }
 
 nlohmann::json Summary::to_json() const {

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "trailscope/geo/web_mercator.hpp"
+#include "trailscope/trails/time_index.hpp"
 
 namespace trailscope {
 
@@ -48,6 +49,7 @@ TrailSet::TrailSet(PointColumns points, std::vector<Flight> flights)
     }
   });
   if (flights_.empty()) return;
+  time_index_ = std::make_shared<const TimeIndex>(points_, flights_);
   t_min_ = std::numeric_limits<double>::infinity(), t_max_ = -t_min_;
   lat_min_ = lon_min_ = std::numeric_limits<float>::infinity();
   lat_max_ = lon_max_ = -lat_min_;
@@ -56,6 +58,11 @@ TrailSet::TrailSet(PointColumns points, std::vector<Flight> flights)
     lat_min_ = std::min(lat_min_, f.lat_min), lat_max_ = std::max(lat_max_, f.lat_max);
     lon_min_ = std::min(lon_min_, f.lon_min), lon_max_ = std::max(lon_max_, f.lon_max);
   }
+}
+
+const TimeIndex& TrailSet::time_index() const {
+  static const TimeIndex none;
+  return time_index_ ? *time_index_ : none;
 }
 
 }  // namespace trailscope

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "ingest_test_helpers.hpp"
@@ -214,6 +215,98 @@ TEST(DemoTraffic, BadOptionsAndMissingInputs) {
   test::write_text(dir.path() / "r.csv", "origin,destination,count\nAAA,BBB,3\nBBB,AAA,1\nAAA,ZZZ,5\n");
   const TrailSet set = generate_demo_traffic(o);
   EXPECT_EQ(set.num_flights(), 10u);
+}
+
+// Fleet mode: aircraft flying leg after leg over several days.
+DemoOptions fleet_options(std::size_t aircraft, int days, std::uint64_t seed = 42) {
+  DemoOptions o = options(1, seed);
+  o.aircraft = aircraft, o.days = days;
+  o.sample_min_s = 30, o.sample_max_s = 90;
+  return o;
+}
+
+TEST(DemoFleet, SameSeedSameBytesAndSameAsThroughTheBuilder) {
+  REQUIRE_VEGA();
+  const TrailSet a = generate_demo_traffic(fleet_options(120, 2));
+  const TrailSet b = generate_demo_traffic(fleet_options(120, 2));
+  const TrailSet c = generate_demo_traffic(fleet_options(120, 2, 43));
+  EXPECT_TRUE(same_columns(a, b));
+  EXPECT_FALSE(same_columns(a, c));
+  TrailSetBuilder builder;
+  const PointColumns& p = a.points();
+  for (const Flight& f : a.flights())
+    for (std::uint32_t i = f.begin; i < f.end; ++i) {
+      Sample s;
+      s.t = p.t[i], s.lat = p.lat[i], s.lon = p.lon[i], s.alt = p.alt[i];
+      s.speed = p.speed[i], s.track = p.track[i], s.vrate = p.vrate[i], s.on_ground = p.on_ground[i] != 0;
+      builder.add(f.icao24, f.callsign, s);
+    }
+  TrailSetBuilder::Stats stats;
+  const TrailSet built = builder.build(&stats);
+  EXPECT_EQ(stats.duplicates, 0u);
+  EXPECT_EQ(stats.splits, 0u);
+  test::expect_same_trails(a, built);
+}
+
+TEST(DemoFleet, AircraftFlyLegAfterLegInsideTheDays) {
+  REQUIRE_VEGA();
+  DemoOptions o = fleet_options(300, 3, 5);
+  const TrailSet set = generate_demo_traffic(o);
+  const double start = o.day_start, end = o.day_start + 3 * 86400.0;
+  const PointColumns& p = set.points();
+  for (double t : p.t) ASSERT_TRUE(t >= start && t < end) << t;
+  // Legs by aircraft, in time order.
+  std::map<std::string, std::vector<const Flight*>> by_aircraft;
+  for (const Flight& f : set.flights()) {
+    EXPECT_GE(f.size(), 2u);
+    by_aircraft[f.icao24].push_back(&f);
+  }
+  EXPECT_EQ(by_aircraft.size(), 300u);
+  std::size_t interior = 0;
+  for (auto& [icao, legs] : by_aircraft) {
+    std::sort(legs.begin(), legs.end(), [](auto* x, auto* y) { return x->t_min < y->t_min; });
+    for (std::size_t k = 1; k < legs.size(); ++k) {
+      const Flight &prev = *legs[k - 1], &next = *legs[k];
+      EXPECT_NE(prev.callsign, next.callsign);
+      // Never two legs at once; the gate time in between.
+      EXPECT_GE(next.t_min - prev.t_max, o.turnaround_min_s) << icao;
+      // The next leg leaves from where the last one ended: taxi-in, then taxi-out and the take-off roll,
+      // all within a few km of the airport reference point.
+      double gap_m;
+      GeographicLib::Geodesic::WGS84().Inverse(p.lat[prev.end - 1], p.lon[prev.end - 1], p.lat[next.begin],
+                                               p.lon[next.begin], gap_m);
+      EXPECT_LT(gap_m, 12000) << icao << " leg " << k;
+      ++interior;
+    }
+  }
+  EXPECT_GT(interior, 300u * 3);
+  // In flight (or taxiing) at mid-time: at most one leg per aircraft, most of the fleet.
+  const double mid = start + 1.5 * 86400;
+  std::size_t now = 0;
+  for (const Flight& f : set.flights()) now += f.t_min <= mid && mid <= f.t_max;
+  EXPECT_LE(now, 300u);
+  EXPECT_GE(now, 150u);
+}
+
+TEST(DemoFleet, BadOptions) {
+  DemoOptions o = fleet_options(10, 2);
+  o.aircraft = kMaxDemoAircraft + 1;
+  auto e = test::catch_error([&] { generate_demo_traffic(o); });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->param(), "aircraft");
+  o = fleet_options(10, 0);
+  e = test::catch_error([&] { generate_demo_traffic(o); });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->param(), "days");
+  o = fleet_options(10, kMaxDemoDays + 1);
+  e = test::catch_error([&] { generate_demo_traffic(o); });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->param(), "days");
+  o = fleet_options(10, 1);
+  o.turnaround_min_s = 100, o.turnaround_max_s = 50;
+  e = test::catch_error([&] { generate_demo_traffic(o); });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->param(), "turnaround");
 }
 
 }  // namespace

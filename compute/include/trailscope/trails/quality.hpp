@@ -87,5 +87,9 @@ struct QualityReport {
 /// The implausible values among the points of `set` that pass `q` (PointFilter); a jump counts when
 /// both of its samples pass. One parallel pass over the flights the query may match.
 QualityReport check_quality(const TrailSet& set, const Query& q);
+/// check_quality() for a time window only, [t0, t1) (±infinity for an open side): read from the set's
+/// time index (time_index.hpp), which lists every implausible value at construction, so the cost is the
+/// events in the window, not its points; the plain pass when the set has no such index. Same answer.
+QualityReport window_quality(const TrailSet& set, double t0, double t1);
 
 }  // namespace trailscope

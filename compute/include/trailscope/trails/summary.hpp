@@ -70,7 +70,13 @@ struct Summary {
 
 /// Summarises the points of `set` that match `q`. The time histogram spans [q.t0, q.t1) when given,
 /// else the data's time extent. Throws invalid_argument for options out of range ("bins", "top").
+/// A query whose only filter is its time window is answered from the set's time index
+/// (time_index.hpp): the flights and points of the window only, and its whole hours from counts made at
+/// construction; the answer is summarize_scan()'s in every field (the speed mean up to the order of its
+/// floating-point sum, which the scan's parallel reduction does not fix either).
 Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts = {});
+/// The plain computation: one parallel pass over every flight the query may match, then its points.
+Summary summarize_scan(const TrailSet& set, const Query& q, const SummaryOptions& opts = {});
 
 /// One row of the flight list: a flight with the part of it inside the window ("in window": the points
 /// that pass the query's point filter — time window, altitude band, bbox, on_ground) and the whole

@@ -2,6 +2,7 @@
 // A set of flight trails in a columnar layout: one array per variable over all points, flights stored
 // as contiguous, time-sorted point ranges. Units are SI throughout (seconds, degrees, metres, m/s).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@ struct Flight {
 };
 
 struct PointColumns;
+class TimeIndex;
 /// Recomputes a flight's extents (time, position, altitude, antimeridian flag) from its points.
 void compute_extents(Flight& f, const PointColumns& points);
 
@@ -40,7 +42,8 @@ struct PointColumns {
 };
 
 /// Immutable after construction (TrailSetBuilder::build or the store's loader); safe to read from many
-/// threads. Web Mercator coordinates are derived on construction, not stored.
+/// threads. Web Mercator coordinates and the time index (time_index.hpp) are derived on construction, not
+/// stored; copies share the index.
 class TrailSet {
  public:
   TrailSet() = default;
@@ -57,6 +60,10 @@ class TrailSet {
   const std::vector<std::uint32_t>& merc_x() const { return merc_x_; }
   const std::vector<std::uint32_t>& merc_y() const { return merc_y_; }
 
+  /// The time index of the points and flights (trails/time_index.hpp); an invalid (empty) index for a
+  /// default-constructed set or flights not in start order.
+  const TimeIndex& time_index() const;
+
   /// Overall extents (Unix seconds, degrees); zero for an empty set.
   double t_min() const { return t_min_; }
   double t_max() const { return t_max_; }
@@ -69,6 +76,7 @@ class TrailSet {
   PointColumns points_;
   std::vector<Flight> flights_;
   std::vector<std::uint32_t> merc_x_, merc_y_;
+  std::shared_ptr<const TimeIndex> time_index_;
   double t_min_ = 0, t_max_ = 0;
   float lat_min_ = 0, lat_max_ = 0, lon_min_ = 0, lon_max_ = 0;
 };
