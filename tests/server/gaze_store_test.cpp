@@ -366,6 +366,18 @@ TEST_F(GazeStoreTest, TheBinaryFileRoundTripsAndRefusesDamage) {
   std::string huge = bytes;
   huge[8] = '\xff', huge[9] = '\xff', huge[10] = '\xff', huge[11] = '\x7f';  // recording count
   EXPECT_NE(refused(huge).find("recordings, more than"), std::string::npos);
+  // A recording of no samples (its columns empty) round-trips too: the fuzz harness gaze_store_file found
+  // the decoder copying 0 bytes from a null pointer there (tests/fuzz/regressions/gaze_store_file).
+  gaze::GazeDataset empty = ds;
+  empty.recordings.resize(1);
+  gaze::Recording& r = empty.recordings[0];
+  r.t_ms.clear(), r.x.clear(), r.y.clear(), r.valid.clear(), r.tracker_events.clear(), r.annotations.clear();
+  const std::string eb = encode_gaze_file(empty);
+  EXPECT_EQ(eb.size(), gaze_file_size(empty));
+  const gaze::GazeDataset eback = decode_gaze_file(eb);
+  ASSERT_EQ(eback.recordings.size(), 1u);
+  EXPECT_EQ(eback.recordings[0].size(), 0u);
+  EXPECT_EQ(encode_gaze_file(eback), eb);
 }
 
 TEST_F(GazeStoreTest, ExactErrors) {

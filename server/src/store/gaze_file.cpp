@@ -63,6 +63,8 @@ class Reader {
   void column(std::vector<T>& v, std::uint64_t n, const char* what) {
     need(n * sizeof(T), what);  // n <= kMaxGazeSamples: no overflow
     v.resize(n);
+    if (n == 0)
+      return;  // an empty vector's data() may be null, and memcpy of null is undefined even for 0 bytes
     std::memcpy(v.data(), b_.data() + at_, n * sizeof(T));
     at_ += n * sizeof(T);
   }
