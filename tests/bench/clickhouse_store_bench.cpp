@@ -1,26 +1,35 @@
-// The server's overhead on the ClickHouse store: the Europe SO6 day put into a cluster (--store, e.g. the
-// URL tests/cluster/cluster.sh prints), then, for each read the routes push down to the shards (a
-// whole-day and a 1-hour summary, a 1-hour flight list, positions at an instant, a density tile), three
-// timings:
-//  - trailscope: the store's answer as the route serialises it (ClickHouseStore's DatasetReads call and
-//    to_json().dump(): the SQL, the merge with compute/'s finishing code, and what stays on the server —
-//    the summary's position jumps on the server's copy, the JSON);
+// The ClickHouse store against the embedded store and against ClickHouse's own SQL: the Europe SO6 day
+// (6.4M points), and that day repeated (--scales 1,8: 8 copies, each shifted by a day, 51M points), put
+// into a cluster (--store, e.g. the URL tests/cluster/cluster.sh prints) and into an embedded store; then,
+// for each read the routes push down to the shards (a whole-set and a 1-hour summary, a 1-hour flight
+// list, positions at an instant, a density tile with its level's span cached, and a cold tile whose span
+// is computed too), three timings:
+//  - trailscope: the store's answer as the route serialises it (ClickHouseStore's DatasetReads call on
+//    the described dataset, as the routes hold it, and to_json().dump(): the SQL, the merge with
+//    compute/'s finishing code, and what stays on the server — the summary's data-quality block and the
+//    tile's span on the server's copy, the JSON, the shading and PNG);
 //  - clickhouse: the same SQL the store sent, run alone through a plain client: ClickHouse's own time for
 //    the same result, over the same HTTP interface;
-//  - embedded: compute/ on the same trails in this process (LocalReads), for scale.
+//  - embedded: compute/ on the same trails in this process (LocalReads, the embedded store's reads).
 // overhead = trailscope p50 / clickhouse p50 − 1. Each answer is checked to be the embedded store's bytes.
-// The tile (z4 over Europe, count, no filter: the case the store aggregates on the shards) is timed with
-// its level's span already cached, as every tile of a zoom after the first.
+// Also timed: the ingest into each store (points/s; the cluster's with its segment rows), describe() of a
+// freshly opened ClickHouse store (catalogue + flight table) and the fetch of the whole copy (get()), and
+// the bytes per point on the cluster's disks (system.parts, every replica) and in the embedded store's
+// folder.
 //
 //   clickhouse_store_bench --so6 PATH --store clickhouse://HOST:PORT[,...]/DB?cluster=NAME [--reps 15]
+//                          [--scales 1,8] [--tmp DIR]
 //
-// Records: {"bench":"clickhouse_store_put"} (rows/s of the ingest into the cluster) and one
-// {"bench":"clickhouse_store_read","read",...} per read.
+// Records: {"bench":"clickhouse_store_put", "scale", ...} per scale (both stores' ingest, sizes, fetch
+// times) and one {"bench":"clickhouse_store_read","scale","read",...} per read and scale.
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 
 #include "bench_util.hpp"
 #include "store/clickhouse_store.hpp"
 #include "store/dataset_reads.hpp"
+#include "store/embedded_store.hpp"
 #include "trailscope/ingest/ingest.hpp"
 
 using namespace bench;
@@ -30,109 +39,220 @@ using trailscope::server::ClickHouseStore;
 using trailscope::server::ClickHouseUrl;
 using trailscope::server::Dataset;
 using trailscope::server::DatasetReads;
+using trailscope::server::EmbeddedStore;
 using trailscope::server::LocalReads;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// `k` copies of `t`, copy c shifted by c days (points, flights and extents), one after the other.
+TrailSet repeat_days(const TrailSet& t, int k) {
+  const PointColumns& p = t.points();
+  const std::size_t n = p.size();
+  PointColumns out;
+  out.reserve(n * k);
+  std::vector<Flight> flights;
+  flights.reserve(t.num_flights() * k);
+  for (int c = 0; c < k; ++c) {
+    const double dt = 86400.0 * c;
+    for (std::size_t i = 0; i < n; ++i) {
+      out.t.push_back(p.t[i] + dt);
+      out.lat.push_back(p.lat[i]), out.lon.push_back(p.lon[i]), out.alt.push_back(p.alt[i]);
+      out.speed.push_back(p.speed[i]), out.track.push_back(p.track[i]), out.vrate.push_back(p.vrate[i]);
+      out.on_ground.push_back(p.on_ground[i]);
+    }
+    for (Flight f : t.flights()) {
+      f.begin += static_cast<std::uint32_t>(n * c), f.end += static_cast<std::uint32_t>(n * c);
+      f.t_min += dt, f.t_max += dt;
+      flights.push_back(std::move(f));
+    }
+  }
+  return TrailSet(std::move(out), std::move(flights));
+}
+
+std::uint64_t folder_bytes(const fs::path& dir) {
+  std::uint64_t b = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) b += e.file_size();
+  return b;
+}
+
+/// The cluster's bytes on disk for `table`_local rows of dataset `id`, over every replica.
+std::uint64_t cluster_bytes(ClickHouseStore& s, const std::string& table, const std::string& id) {
+  const std::string out = s.client().query(
+      "SELECT sum(bytes_on_disk) FROM cluster(" + ClickHouseClient::quote(s.cluster()) +
+      ", system, parts) WHERE database = " + ClickHouseClient::quote(s.database()) + " AND table = '" +
+      table + "_local' AND active AND partition = " + ClickHouseClient::quote(id) + " FORMAT TSV");
+  return std::stoull(out);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   try {
     const Args a(argc, argv);
     const std::string so6 = a.get("so6"), url_text = a.get("store");
     const int reps = static_cast<int>(a.num("reps", 15));
-    if (so6.empty() || url_text.empty() || reps < 1) {
-      std::cerr << "usage: clickhouse_store_bench --so6 PATH --store clickhouse://... [--reps 15]\n";
+    std::vector<int> scales;
+    {
+      std::stringstream ss(a.get("scales", "1"));
+      for (std::string w; std::getline(ss, w, ',');) scales.push_back(std::stoi(w));
+    }
+    const fs::path tmp = a.get("tmp", (fs::temp_directory_path() / "clickhouse_store_bench").string());
+    if (so6.empty() || url_text.empty() || reps < 1 || scales.empty()) {
+      std::cerr << "usage: clickhouse_store_bench --so6 PATH --store clickhouse://... [--reps 15] "
+                   "[--scales 1,8] [--tmp DIR]\n";
       return 2;
     }
     const ClickHouseUrl url = ClickHouseUrl::parse(url_text);
     ingest::IngestReport report;
-    auto ds = std::make_shared<Dataset>();
-    ds->trails = std::make_shared<const TrailSet>(ingest::ingest_file(so6, {}, &report));
-    ds->id = "bench-europe", ds->name = "Europe 2018-01-01", ds->format = "so6";
-    ds->created = "2026-11-26T00:00:00Z", ds->ingest = report.to_json();
-    const TrailSet& t = *ds->trails;
+    const auto day = std::make_shared<const TrailSet>(ingest::ingest_file(so6, {}, &report));
+    for (const int scale : scales) {
+      auto ds = std::make_shared<Dataset>();
+      ds->trails = scale == 1 ? day : std::make_shared<const TrailSet>(repeat_days(*day, scale));
+      ds->id = "bench-europe-x" + std::to_string(scale), ds->name = ds->id, ds->format = "so6";
+      ds->created = "2026-11-26T00:00:00Z", ds->ingest = report.to_json();
+      const TrailSet& t = *ds->trails;
+      const std::string label =
+          "x" + std::to_string(scale) + " (" + std::to_string(t.num_points()) + " points)";
 
-    ClickHouseStore store(url, true);
-    if (store.contains(ds->id)) store.remove(ds->id);
-    auto t0 = Clock::now();
-    store.put(ds);
-    const double put_ms = ms_since(t0);
-    emit({{"bench", "clickhouse_store_put"},
-          {"dataset", "so6_europe_day"},
-          {"points", t.num_points()},
-          {"flights", t.num_flights()},
-          {"nodes", url.hosts.size()},
-          {"put_ms", std::round(put_ms)},
-          {"points_per_s", std::round(t.num_points() / (put_ms / 1000))}});
-    log("put " + std::to_string(t.num_points()) + " points in " + std::to_string(put_ms / 1000) + " s");
-
-    // The store as a server holds it after a restart: a fresh open, the dataset fetched once.
-    ClickHouseStore fresh(url);
-    const auto held = fresh.get(ds->id);
-    std::vector<std::string> sqls;
-    fresh.on_read([&](const std::string& sql, double) { sqls.push_back(sql); });
-    ClickHouseClient plain(url.hosts);
-    const ClickHouseClient::Settings settings = {{"max_query_size", std::to_string(64u << 20)}};
-    const LocalReads local;
-    // A density tile over Europe (z4, 256 px, count, eq_hist): its level's span is computed once and cached
-    // by the renderer, so the timings are the tile's aggregate, shading and PNG.
-    density::DensityRenderer renderer;
-    density::TileRequest tile;
-    tile.tile = geo::TileId{4, 8, 5};
-    tile.max_gap_seconds = std::numeric_limits<double>::infinity();  // as the tile route draws stored flights
-
-    const double mid = std::floor((t.t_min() + t.t_max()) / 2 / 3600) * 3600;
-    Query hour;
-    hour.t0 = mid, hour.t1 = mid + 3600;
-    struct Read {
-      std::string name;
-      std::function<std::string(const DatasetReads&)> run;
-    };
-    const std::vector<Read> reads = {
-        {"summary_whole_day",
-         [&](const DatasetReads& r) { return r.summarize(*held, {}, {}).to_json().dump(); }},
-        {"summary_1h", [&](const DatasetReads& r) { return r.summarize(*held, hour, {}).to_json().dump(); }},
-        {"flights_1h_page",
-         [&](const DatasetReads& r) { return r.list_flights(*held, hour, 0, 100, {}).to_json().dump(); }},
-        {"positions_at",
-         [&](const DatasetReads& r) {
-           return r.positions_at(*held, mid + 1800, {}, 100000).to_json().dump();
-         }},
-        {"tile_4_8_5",
-         [&](const DatasetReads& r) { return r.density_tile(*held, renderer, "europe", {}, tile); }},
-    };
-    for (const Read& rd : reads) {
-      sqls.clear();
-      const std::string ours = rd.run(fresh);
-      const std::vector<std::string> captured = sqls;
-      const bool match = ours == rd.run(local);
-      std::vector<double> ts, ch, em;
-      for (int i = 0; i < reps; ++i) {
-        t0 = Clock::now();
-        (void)rd.run(fresh);
-        ts.push_back(ms_since(t0));
-        t0 = Clock::now();
-        for (const auto& sql : captured) (void)plain.query(sql, settings);
-        ch.push_back(ms_since(t0));
-        t0 = Clock::now();
-        (void)rd.run(local);
-        em.push_back(ms_since(t0));
+      // The embedded store's ingest: its column files written (the parse is the same for both stores).
+      fs::remove_all(tmp);
+      double emb_put_ms = 0;
+      std::uint64_t emb_bytes = 0;
+      {
+        EmbeddedStore emb(tmp / "embedded");
+        auto t0 = Clock::now();
+        emb.put(ds);
+        emb_put_ms = ms_since(t0);
+        emb_bytes = folder_bytes(tmp / "embedded");
       }
-      const Stats s_ts = Stats::of(ts), s_ch = Stats::of(ch), s_em = Stats::of(em);
-      json rec = {{"bench", "clickhouse_store_read"},
-                  {"dataset", "so6_europe_day"},
-                  {"read", rd.name},
-                  {"reps", reps},
-                  {"sql_queries", captured.size()},
-                  {"answer_bytes", ours.size()},
-                  {"match_embedded", match},
-                  {"overhead", std::round((s_ts.p50 / s_ch.p50 - 1) * 1000) / 1000}};
-      s_ts.put(rec, "trailscope_ms_");
-      s_ch.put(rec, "clickhouse_ms_");
-      s_em.put(rec, "embedded_ms_");
-      emit(rec);
-      log(rd.name + ": trailscope p50 " + std::to_string(s_ts.p50) + " ms, clickhouse's SQL " +
-          std::to_string(s_ch.p50) + " ms, embedded " + std::to_string(s_em.p50) + " ms" +
-          (match ? "" : "  MISMATCH with the embedded store"));
+      fs::remove_all(tmp);
+
+      ClickHouseStore store(url, true);
+      if (store.contains(ds->id)) store.remove(ds->id);
+      auto t0 = Clock::now();
+      store.put(ds);
+      const double put_ms = ms_since(t0);
+      std::uint64_t segments = 0;
+      for (const Flight& f : t.flights()) segments += f.size() > 1 ? f.size() - 1 : 0;
+      const std::uint64_t pbytes = cluster_bytes(store, "points", ds->id),
+                          sbytes = cluster_bytes(store, "segments", ds->id),
+                          fbytes = cluster_bytes(store, "flights", ds->id);
+      log(label + ": put " + std::to_string(put_ms / 1000) + " s into the cluster, " +
+          std::to_string(emb_put_ms / 1000) + " s into the embedded store");
+
+      // The store as a server holds it after a restart: a fresh open, the dataset described (no point
+      // read), then its copy fetched once for the computations that need every point.
+      ClickHouseStore fresh(url);
+      t0 = Clock::now();
+      const auto held = fresh.describe(ds->id);
+      const double describe_ms = ms_since(t0);
+      t0 = Clock::now();
+      (void)fresh.get(ds->id);
+      const double fetch_ms = ms_since(t0);
+      emit({{"bench", "clickhouse_store_put"},
+            {"dataset", "so6_europe_day"},
+            {"scale", scale},
+            {"points", t.num_points()},
+            {"flights", t.num_flights()},
+            {"segments", segments},
+            {"nodes", url.hosts.size()},
+            {"put_ms", std::round(put_ms)},
+            {"points_per_s", std::round(t.num_points() / (put_ms / 1000))},
+            {"rows_per_s", std::round((t.num_points() + segments + t.num_flights()) / (put_ms / 1000))},
+            {"embedded_put_ms", std::round(emb_put_ms)},
+            {"embedded_points_per_s", std::round(t.num_points() / (emb_put_ms / 1000))},
+            {"embedded_disk_bytes", emb_bytes},
+            {"cluster_points_bytes", pbytes},
+            {"cluster_segments_bytes", sbytes},
+            {"cluster_flights_bytes", fbytes},
+            {"describe_ms", std::round(describe_ms * 10) / 10},
+            {"fetch_ms", std::round(fetch_ms)},
+            {"peak_rss_mib", std::round(peak_rss_mib())}});
+
+      std::vector<std::string> sqls;
+      fresh.on_read([&](const std::string& sql, double) { sqls.push_back(sql); });
+      ClickHouseClient plain(url.hosts);
+      const ClickHouseClient::Settings settings = {{"max_query_size", std::to_string(64u << 20)}};
+      const LocalReads local;
+      // A density tile over Europe (z4, 256 px, count, eq_hist, no filter: the case the store aggregates
+      // on the shards). Warm: its level's span computed once and cached by the renderer, so the timings are
+      // the tile's aggregate, shading and PNG. Cold: a new renderer each time, the span computed too.
+      density::DensityRenderer renderer;
+      density::TileRequest tile;
+      tile.tile = geo::TileId{4, 8, 5};
+      tile.max_gap_seconds =
+          std::numeric_limits<double>::infinity();  // as the tile route draws stored flights
+
+      const double mid = std::floor((t.t_min() + t.t_max()) / 2 / 3600) * 3600;
+      Query hour;
+      hour.t0 = mid, hour.t1 = mid + 3600;
+      struct Read {
+        std::string name;
+        std::function<std::string(const DatasetReads&, const Dataset&)> run;
+      };
+      const std::vector<Read> reads = {
+          {"summary_whole",
+           [&](const DatasetReads& r, const Dataset& d) { return r.summarize(d, {}, {}).to_json().dump(); }},
+          {"summary_1h", [&](const DatasetReads& r,
+                             const Dataset& d) { return r.summarize(d, hour, {}).to_json().dump(); }},
+          {"flights_1h_page",
+           [&](const DatasetReads& r, const Dataset& d) {
+             return r.list_flights(d, hour, 0, 100, {}).to_json().dump();
+           }},
+          {"positions_at",
+           [&](const DatasetReads& r, const Dataset& d) {
+             return r.positions_at(d, mid + 1800, {}, 100000).to_json().dump();
+           }},
+          {"tile_4_8_5_warm_span",
+           [&](const DatasetReads& r, const Dataset& d) {
+             return r.density_tile(d, renderer, "europe", {}, tile);
+           }},
+          {"tile_4_8_5_cold",
+           [&](const DatasetReads& r, const Dataset& d) {
+             density::DensityRenderer cold;
+             return r.density_tile(d, cold, "europe", {}, tile);
+           }},
+      };
+      for (const Read& rd : reads) {
+        sqls.clear();
+        const std::string ours = rd.run(fresh, *held);
+        const std::vector<std::string> captured = sqls;
+        const bool match = ours == rd.run(local, *ds);
+        std::vector<double> ts, ch, em;
+        for (int i = 0; i < reps; ++i) {
+          t0 = Clock::now();
+          (void)rd.run(fresh, *held);
+          ts.push_back(ms_since(t0));
+          t0 = Clock::now();
+          for (const auto& sql : captured) (void)plain.query(sql, settings);
+          ch.push_back(ms_since(t0));
+          t0 = Clock::now();
+          (void)rd.run(local, *ds);
+          em.push_back(ms_since(t0));
+        }
+        const Stats s_ts = Stats::of(ts), s_ch = Stats::of(ch), s_em = Stats::of(em);
+        json rec = {{"bench", "clickhouse_store_read"},
+                    {"dataset", "so6_europe_day"},
+                    {"scale", scale},
+                    {"points", t.num_points()},
+                    {"read", rd.name},
+                    {"reps", reps},
+                    {"sql_queries", captured.size()},
+                    {"answer_bytes", ours.size()},
+                    {"match_embedded", match},
+                    {"overhead", std::round((s_ts.p50 / s_ch.p50 - 1) * 1000) / 1000}};
+        s_ts.put(rec, "trailscope_ms_");
+        s_ch.put(rec, "clickhouse_ms_");
+        s_em.put(rec, "embedded_ms_");
+        emit(rec);
+        log(label + " " + rd.name + ": trailscope p50 " + std::to_string(s_ts.p50) +
+            " ms, clickhouse's SQL " + std::to_string(s_ch.p50) + " ms, embedded " +
+            std::to_string(s_em.p50) + " ms" + (match ? "" : "  MISMATCH with the embedded store"));
+      }
+      store.remove(ds->id);
     }
-    store.remove(ds->id);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "clickhouse_store_bench: " << e.what() << "\n";
