@@ -1220,7 +1220,7 @@ int main(int argc, char** argv) {
       for (const json* r : reads) {
         const std::string rd = r->value("read", "");
         if ((rd == "flights_1h_page" || rd == "positions_at") && dbl(r, "overhead", 0) >= worst)
-          worst = dbl(r, "overhead", 0), worst_read = rd + " x" + str(r, "scale");
+          worst = dbl(r, "overhead", 0), worst_read = rd + ", " + str(r, "set") + " ×" + str(r, "scale");
       }
       targets.push_back(
           {"15",
@@ -1229,20 +1229,21 @@ int main(int argc, char** argv) {
       body << "## 15. The ClickHouse store: embedded vs cluster, and against ClickHouse's own SQL\n\n"
               "`clickhouse_store_bench` on a local cluster of 2 shards × 2 replicas "
               "(`tests/cluster/cluster.sh`, "
-              "every node on this machine): the Europe SO6 day (×1) and the same day repeated with each copy "
-              "shifted by a day (×N) put into the cluster and into an embedded store. Ingest = the store's "
+              "every node on this machine): the Europe SO6 day and the demo day (7,400 flights), each also "
+              "repeated with every copy shifted by a day (×N), put into the cluster and into an embedded "
+              "store. Ingest = the store's "
               "put() of parsed trails (the parse is the same for both): the cluster's writes every point, "
               "segment and flight row to both replicas of its shard; bytes on disk count every replica.\n\n"
-              "| scale | points | cluster ingest | cluster rows/s | embedded ingest | cluster disk, "
+              "| set | scale | points | cluster ingest | cluster rows/s | embedded ingest | cluster disk, "
               "bytes/point "
               "(points + segments, all replicas) | embedded disk, bytes/point | describe (fresh store) | "
               "fetch "
-              "of the whole copy |\n|---|---|---|---|---|---|---|---|---|\n";
+              "of the whole copy |\n|---|---|---|---|---|---|---|---|---|---|\n";
       for (const json* r : find("clickhouse_store_put")) {
         const double pts = dbl(r, "points", 1);
         const double cb = dbl(r, "cluster_points_bytes", 0) + dbl(r, "cluster_segments_bytes", 0) +
                           dbl(r, "cluster_flights_bytes", 0);
-        body << "| ×" << str(r, "scale") << " | " << grouped(r, "points") << " | "
+        body << "| " << str(r, "set") << " | ×" << str(r, "scale") << " | " << grouped(r, "points") << " | "
              << grouped(r, "points_per_s") << " points/s | " << grouped(r, "rows_per_s") << " | "
              << grouped(r, "embedded_points_per_s") << " points/s | " << num(cb / pts, 1) << " | "
              << num(dbl(r, "embedded_disk_bytes", 0) / pts, 1) << " | " << ms(r, "describe_ms") << " ms | "
@@ -1255,13 +1256,15 @@ int main(int argc, char** argv) {
               "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1. Warm span: the tile's "
               "zoom was drawn before (every tile of a zoom after the first); cold: the span is computed "
               "too.\n\n"
-              "| scale | read | SQL queries | TrailScope p50 | ClickHouse p50 | overhead | embedded p50 | "
-              "same bytes |\n|---|---|---|---|---|---|---|---|\n";
+              "| set | scale | read | SQL queries | TrailScope p50 | ClickHouse p50 | overhead | embedded "
+              "p50 | "
+              "same bytes |\n|---|---|---|---|---|---|---|---|---|\n";
       for (const json* r : reads)
-        body << "| ×" << str(r, "scale") << " | " << str(r, "read") << " | " << str(r, "sql_queries") << " | "
-             << ms(r, "trailscope_ms_p50") << " ms | " << ms(r, "clickhouse_ms_p50") << " ms | "
-             << num(dbl(r, "overhead") * 100, 0) << " % | " << ms(r, "embedded_ms_p50") << " ms | "
-             << (r->value("match_embedded", false) ? "yes" : "**NO**") << " |\n";
+        body << "| " << str(r, "set") << " | ×" << str(r, "scale") << " | " << str(r, "read") << " | "
+             << str(r, "sql_queries") << " | " << ms(r, "trailscope_ms_p50") << " ms | "
+             << ms(r, "clickhouse_ms_p50") << " ms | " << num(dbl(r, "overhead") * 100, 0) << " % | "
+             << ms(r, "embedded_ms_p50") << " ms | " << (r->value("match_embedded", false) ? "yes" : "**NO**")
+             << " |\n";
       body << "\n";
     }
 

@@ -1,27 +1,32 @@
-// The ClickHouse store against the embedded store and against ClickHouse's own SQL: the Europe SO6 day
-// (6.4M points), and that day repeated (--scales 1,8: 8 copies, each shifted by a day, 51M points), put
-// into a cluster (--store, e.g. the URL tests/cluster/cluster.sh prints) and into an embedded store; then,
-// for each read the routes push down to the shards (a whole-set and a 1-hour summary, a 1-hour flight
-// list, positions at an instant, a density tile with its level's span cached, and a cold tile whose span
-// is computed too), three timings:
+// The ClickHouse store against the embedded store and against ClickHouse's own SQL, on the Europe SO6 day
+// (138,579 points; --scales, default 1) and on the demo day (--demo-flights, default 7,400 flights: 6.4M
+// points; --demo-scales, default none: e.g. 1,8), a scale k being k copies of the day, each shifted by a
+// day (×8 of that demo day: 51M points). Each set is put into an embedded store and into a cluster (--store,
+// e.g. the URL tests/cluster/cluster.sh prints); then, for each read the routes push down to the shards (a
+// whole-set and a 1-hour summary, a 1-hour flight list, positions at an instant, a density tile with its
+// level's span cached, and a cold tile whose span is computed too), three timings:
 //  - trailscope: the store's answer as the route serialises it (ClickHouseStore's DatasetReads call on
 //    the described dataset, as the routes hold it, and to_json().dump(): the SQL, the merge with
 //    compute/'s finishing code, and what stays on the server — the summary's data-quality block and the
 //    tile's span on the server's copy, the JSON, the shading and PNG);
 //  - clickhouse: the same SQL the store sent, run alone through a plain client: ClickHouse's own time for
 //    the same result, over the same HTTP interface;
-//  - embedded: compute/ on the same trails in this process (LocalReads, the embedded store's reads).
+//  - embedded: compute/ in this process (LocalReads, the embedded store's reads) on the copy the
+//    ClickHouse store fetched (bit for bit the set that was put: tests/cluster; the original is released
+//    first, so that one copy is in memory at a time).
 // overhead = trailscope p50 / clickhouse p50 − 1. Each answer is checked to be the embedded store's bytes.
-// Also timed: the ingest into each store (points/s; the cluster's with its segment rows), describe() of a
-// freshly opened ClickHouse store (catalogue + flight table) and the fetch of the whole copy (get()), and
-// the bytes per point on the cluster's disks (system.parts, every replica) and in the embedded store's
-// folder.
+// Also timed: the ingest into each store (points/s; the cluster's rows/s counts its segment and flight
+// rows too), describe() of a freshly opened ClickHouse store (catalogue + flight table) and the fetch of
+// the whole copy (get()); and the bytes per point on the cluster's disks (system.parts, every replica) and
+// in the embedded store's folder.
 //
 //   clickhouse_store_bench --so6 PATH --store clickhouse://HOST:PORT[,...]/DB?cluster=NAME [--reps 15]
-//                          [--scales 1,8] [--tmp DIR]
+//       [--scales 1] [--demo-scales 1,8] [--demo-flights 7400] [--demo-source DIR] [--big-reps 3]
+//       [--tmp DIR]
 //
-// Records: {"bench":"clickhouse_store_put", "scale", ...} per scale (both stores' ingest, sizes, fetch
-// times) and one {"bench":"clickhouse_store_read","scale","read",...} per read and scale.
+// Sets of more than 10M points are read --big-reps times instead of --reps.
+// Records: {"bench":"clickhouse_store_put","set","scale",...} per set and one
+// {"bench":"clickhouse_store_read","set","scale","read",...} per read and set.
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -92,29 +97,57 @@ int main(int argc, char** argv) {
   try {
     const Args a(argc, argv);
     const std::string so6 = a.get("so6"), url_text = a.get("store");
-    const int reps = static_cast<int>(a.num("reps", 15));
-    std::vector<int> scales;
-    {
-      std::stringstream ss(a.get("scales", "1"));
-      for (std::string w; std::getline(ss, w, ',');) scales.push_back(std::stoi(w));
-    }
+    const int reps = static_cast<int>(a.num("reps", 15)), big_reps = static_cast<int>(a.num("big-reps", 3));
+    auto list = [&](const std::string& key, const std::string& def) {
+      std::vector<int> v;
+      std::stringstream ss(a.get(key, def));
+      for (std::string w; std::getline(ss, w, ',');)
+        if (!w.empty()) v.push_back(std::stoi(w));
+      return v;
+    };
+    const std::vector<int> scales = list("scales", "1"), demo_scales = list("demo-scales", "");
     const fs::path tmp = a.get("tmp", (fs::temp_directory_path() / "clickhouse_store_bench").string());
-    if (so6.empty() || url_text.empty() || reps < 1 || scales.empty()) {
-      std::cerr << "usage: clickhouse_store_bench --so6 PATH --store clickhouse://... [--reps 15] "
-                   "[--scales 1,8] [--tmp DIR]\n";
+    if (so6.empty() || url_text.empty() || reps < 1 || big_reps < 1) {
+      std::cerr
+          << "usage: clickhouse_store_bench --so6 PATH --store clickhouse://... [--reps 15] [--scales 1] "
+             "[--demo-scales 1,8] [--demo-source DIR] [--big-reps 3] [--tmp DIR]\n";
       return 2;
     }
     const ClickHouseUrl url = ClickHouseUrl::parse(url_text);
     ingest::IngestReport report;
-    const auto day = std::make_shared<const TrailSet>(ingest::ingest_file(so6, {}, &report));
-    for (const int scale : scales) {
+    struct Set {
+      std::string name;
+      std::shared_ptr<const TrailSet> day;
+      int scale;
+    };
+    std::vector<Set> sets;
+    {
+      const auto so6_day = std::make_shared<const TrailSet>(ingest::ingest_file(so6, {}, &report));
+      for (const int k : scales) sets.push_back({"so6_europe_day", so6_day, k});
+      if (!demo_scales.empty()) {
+        const auto demo_day = std::make_shared<const TrailSet>(
+            generate_demo(demo_source(a), static_cast<std::size_t>(a.num("demo-flights", 7400)), 42));
+        for (const int k : demo_scales) sets.push_back({"demo_day", demo_day, k});
+      }
+    }
+    while (!sets.empty()) {
+      Set set = std::move(sets.front());
+      sets.erase(sets.begin());
+      const int scale = set.scale;
       auto ds = std::make_shared<Dataset>();
-      ds->trails = scale == 1 ? day : std::make_shared<const TrailSet>(repeat_days(*day, scale));
-      ds->id = "bench-europe-x" + std::to_string(scale), ds->name = ds->id, ds->format = "so6";
+      ds->trails = scale == 1 ? set.day : std::make_shared<const TrailSet>(repeat_days(*set.day, scale));
+      // The day stays only while a later set repeats it.
+      if (std::none_of(sets.begin(), sets.end(), [&](const Set& s) { return s.day == set.day; }))
+        set.day.reset();
+      ds->id = "bench-" + set.name + "-x" + std::to_string(scale), ds->name = ds->id;
+      ds->format = set.name == "demo_day" ? "demo" : "so6";
       ds->created = "2026-11-26T00:00:00Z", ds->ingest = report.to_json();
-      const TrailSet& t = *ds->trails;
+      const std::size_t num_points = ds->trails->num_points(), num_flights = ds->trails->num_flights();
+      std::uint64_t segments = 0;
+      for (const Flight& f : ds->trails->flights()) segments += f.size() > 1 ? f.size() - 1 : 0;
       const std::string label =
-          "x" + std::to_string(scale) + " (" + std::to_string(t.num_points()) + " points)";
+          set.name + " x" + std::to_string(scale) + " (" + std::to_string(num_points) + " points)";
+      const int n_reps = num_points > 10'000'000 ? big_reps : reps;
 
       // The embedded store's ingest: its column files written (the parse is the same for both stores).
       fs::remove_all(tmp);
@@ -122,7 +155,7 @@ int main(int argc, char** argv) {
       std::uint64_t emb_bytes = 0;
       {
         EmbeddedStore emb(tmp / "embedded");
-        auto t0 = Clock::now();
+        const auto t0 = Clock::now();
         emb.put(ds);
         emb_put_ms = ms_since(t0);
         emb_bytes = folder_bytes(tmp / "embedded");
@@ -134,35 +167,36 @@ int main(int argc, char** argv) {
       auto t0 = Clock::now();
       store.put(ds);
       const double put_ms = ms_since(t0);
-      std::uint64_t segments = 0;
-      for (const Flight& f : t.flights()) segments += f.size() > 1 ? f.size() - 1 : 0;
       const std::uint64_t pbytes = cluster_bytes(store, "points", ds->id),
                           sbytes = cluster_bytes(store, "segments", ds->id),
                           fbytes = cluster_bytes(store, "flights", ds->id);
       log(label + ": put " + std::to_string(put_ms / 1000) + " s into the cluster, " +
           std::to_string(emb_put_ms / 1000) + " s into the embedded store");
+      ds.reset();  // one copy in memory at a time: the fetched one from here on
 
       // The store as a server holds it after a restart: a fresh open, the dataset described (no point
       // read), then its copy fetched once for the computations that need every point.
       ClickHouseStore fresh(url);
+      const std::string id = "bench-" + set.name + "-x" + std::to_string(scale);
       t0 = Clock::now();
-      const auto held = fresh.describe(ds->id);
+      const auto held = fresh.describe(id);
       const double describe_ms = ms_since(t0);
       t0 = Clock::now();
-      (void)fresh.get(ds->id);
+      const auto copy = fresh.get(id);
       const double fetch_ms = ms_since(t0);
+      const TrailSet& t = *copy->trails;
       emit({{"bench", "clickhouse_store_put"},
-            {"dataset", "so6_europe_day"},
+            {"set", set.name},
             {"scale", scale},
-            {"points", t.num_points()},
-            {"flights", t.num_flights()},
+            {"points", num_points},
+            {"flights", num_flights},
             {"segments", segments},
             {"nodes", url.hosts.size()},
             {"put_ms", std::round(put_ms)},
-            {"points_per_s", std::round(t.num_points() / (put_ms / 1000))},
-            {"rows_per_s", std::round((t.num_points() + segments + t.num_flights()) / (put_ms / 1000))},
+            {"points_per_s", std::round(num_points / (put_ms / 1000))},
+            {"rows_per_s", std::round((num_points + segments + num_flights) / (put_ms / 1000))},
             {"embedded_put_ms", std::round(emb_put_ms)},
-            {"embedded_points_per_s", std::round(t.num_points() / (emb_put_ms / 1000))},
+            {"embedded_points_per_s", std::round(num_points / (emb_put_ms / 1000))},
             {"embedded_disk_bytes", emb_bytes},
             {"cluster_points_bytes", pbytes},
             {"cluster_segments_bytes", sbytes},
@@ -170,18 +204,21 @@ int main(int argc, char** argv) {
             {"describe_ms", std::round(describe_ms * 10) / 10},
             {"fetch_ms", std::round(fetch_ms)},
             {"peak_rss_mib", std::round(peak_rss_mib())}});
+      log(label + ": describe " + std::to_string(describe_ms) + " ms, fetch " + std::to_string(fetch_ms) +
+          " ms");
 
       std::vector<std::string> sqls;
       fresh.on_read([&](const std::string& sql, double) { sqls.push_back(sql); });
       ClickHouseClient plain(url.hosts);
       const ClickHouseClient::Settings settings = {{"max_query_size", std::to_string(64u << 20)}};
       const LocalReads local;
-      // A density tile over Europe (z4, 256 px, count, eq_hist, no filter: the case the store aggregates
-      // on the shards). Warm: its level's span computed once and cached by the renderer, so the timings are
-      // the tile's aggregate, shading and PNG. Cold: a new renderer each time, the span computed too.
+      // A density tile over the data (z4, 256 px, count, eq_hist, no filter: a tile the store aggregates
+      // on the shards): Europe's 4/8/5, the demo's (the United States) 4/3/6. Warm: its level's span
+      // computed once and cached by the renderer, so the timings are the tile's aggregate, shading and PNG.
+      // Cold: a new renderer each time, the span computed too.
       density::DensityRenderer renderer;
       density::TileRequest tile;
-      tile.tile = geo::TileId{4, 8, 5};
+      tile.tile = set.name == "demo_day" ? geo::TileId{4, 3, 6} : geo::TileId{4, 8, 5};
       tile.max_gap_seconds =
           std::numeric_limits<double>::infinity();  // as the tile route draws stored flights
 
@@ -205,23 +242,21 @@ int main(int argc, char** argv) {
            [&](const DatasetReads& r, const Dataset& d) {
              return r.positions_at(d, mid + 1800, {}, 100000).to_json().dump();
            }},
-          {"tile_4_8_5_warm_span",
-           [&](const DatasetReads& r, const Dataset& d) {
-             return r.density_tile(d, renderer, "europe", {}, tile);
-           }},
-          {"tile_4_8_5_cold",
+          {"tile_warm_span", [&](const DatasetReads& r,
+                                 const Dataset& d) { return r.density_tile(d, renderer, id, {}, tile); }},
+          {"tile_cold",
            [&](const DatasetReads& r, const Dataset& d) {
              density::DensityRenderer cold;
-             return r.density_tile(d, cold, "europe", {}, tile);
+             return r.density_tile(d, cold, id, {}, tile);
            }},
       };
       for (const Read& rd : reads) {
         sqls.clear();
         const std::string ours = rd.run(fresh, *held);
         const std::vector<std::string> captured = sqls;
-        const bool match = ours == rd.run(local, *ds);
+        const bool match = ours == rd.run(local, *copy);
         std::vector<double> ts, ch, em;
-        for (int i = 0; i < reps; ++i) {
+        for (int i = 0; i < n_reps; ++i) {
           t0 = Clock::now();
           (void)rd.run(fresh, *held);
           ts.push_back(ms_since(t0));
@@ -229,16 +264,20 @@ int main(int argc, char** argv) {
           for (const auto& sql : captured) (void)plain.query(sql, settings);
           ch.push_back(ms_since(t0));
           t0 = Clock::now();
-          (void)rd.run(local, *ds);
+          (void)rd.run(local, *copy);
           em.push_back(ms_since(t0));
         }
         const Stats s_ts = Stats::of(ts), s_ch = Stats::of(ch), s_em = Stats::of(em);
         json rec = {{"bench", "clickhouse_store_read"},
-                    {"dataset", "so6_europe_day"},
+                    {"set", set.name},
                     {"scale", scale},
-                    {"points", t.num_points()},
+                    {"points", num_points},
                     {"read", rd.name},
-                    {"reps", reps},
+                    {"tile", rd.name.rfind("tile", 0) == 0
+                                 ? std::to_string(tile.tile.z) + "/" + std::to_string(tile.tile.x) + "/" +
+                                       std::to_string(tile.tile.y)
+                                 : ""},
+                    {"reps", n_reps},
                     {"sql_queries", captured.size()},
                     {"answer_bytes", ours.size()},
                     {"match_embedded", match},
@@ -251,7 +290,7 @@ int main(int argc, char** argv) {
             " ms, clickhouse's SQL " + std::to_string(s_ch.p50) + " ms, embedded " +
             std::to_string(s_em.p50) + " ms" + (match ? "" : "  MISMATCH with the embedded store"));
       }
-      store.remove(ds->id);
+      store.remove(id);
     }
     return 0;
   } catch (const std::exception& e) {

@@ -63,18 +63,22 @@
 //  matched on the server against the flight table (a list of flight ids in WHERE), since callsign_matches()'
 //  patterns are not LIKE's. A dataset whose flights do not cover its points one to one (never made by the
 //  ingest) falls back to the computation on the server's copy.
-//  - density_tile(): the count tile of the whole dataset (no query filter, value=count, no kernel, every
-//    segment drawn, no flight across 180°): one query over the segment table gives each pixel's count,
-//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them
-//    (the SQL of tests/bench/bench_util.hpp peer_line_tile_sql, checked there pixel for pixel); the first
-//    pixel of a segment that continues its flight's run is left out. The server shades it with the level's
-//    shared span (computed once per zoom on the server's copy and cached by the renderer) through
-//    finish_aggregate() and shade_tile(). Every other tile falls back to the server's copy: a query filter
-//    decides per sample which segments are drawn and where runs break, which needs each segment's
-//    neighbours (no window functions in 18.16); altitude/speed values and kernels are not expressed; a
-//    segment across 180° is drawn with its wrapped copies.
-// Not pushed down: the legend, bundles, flight GeoJSON, exports, animation, congestion and the other routes:
-// they read the copy get() fetched.
+//  - density_tile(): count tiles that draw every segment (no gap limit) of a dataset without a flight
+//    across 180°, unfiltered or under a time window, icao24/callsign filters and a kernel: one query over
+//    the segment table gives each pixel's count on the work canvas (the tile plus the kernel's margin),
+//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them (the
+//    SQL of clickhouse_tile_sql.hpp, which the tile benchmark checks pixel for pixel against
+//    density_lines_ref); the first pixel of a segment that continues a drawn run is left out. A flight
+//    filter keeps or drops a flight whole (flight IN (...)); under a window [t0, t1) a segment is drawn
+//    when both its points lie in it, and continues a run when the point before it does too (its stored
+//    prev_t), exactly the run breaks density_lines() makes, since a flight's samples are in time order.
+//    The server smooths and shades through finish_aggregate() and shade_tile() with the level's shared
+//    span (computed once per zoom on the fetched copy and cached by the renderer). Drawn from the copy:
+//    altitude/speed values, and altitude, bbox and on_ground filters (whether a segment is drawn and where
+//    a run breaks depend on both samples' values and the previous one's, which the segment rows do not
+//    hold; no window functions in 18.16), and segments across 180° (wrapped copies).
+// Not pushed down: the legend (the span), bundles, flight GeoJSON, exports, animation, picking, congestion
+// and flow maps: they follow every sample of the flights they draw and read the copy get() fetches.
 #include <atomic>
 #include <functional>
 #include <map>
