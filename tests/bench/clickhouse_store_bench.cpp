@@ -254,7 +254,15 @@ int main(int argc, char** argv) {
         sqls.clear();
         const std::string ours = rd.run(fresh, *held);
         const std::vector<std::string> captured = sqls;
-        const bool match = ours == rd.run(local, *copy);
+        const std::string theirs = rd.run(local, *copy);
+        const bool match = ours == theirs;
+        if (!match) {  // where the answers part, for the log
+          std::size_t at = 0;
+          while (at < ours.size() && at < theirs.size() && ours[at] == theirs[at]) ++at;
+          const std::size_t from = at > 80 ? at - 80 : 0;
+          log(label + " " + rd.name + ": the answers part at byte " + std::to_string(at) +
+              ":\n  cluster:  " + ours.substr(from, 160) + "\n  embedded: " + theirs.substr(from, 160));
+        }
         std::vector<double> ts, ch, em;
         for (int i = 0; i < n_reps; ++i) {
           t0 = Clock::now();
