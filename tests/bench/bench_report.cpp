@@ -1210,37 +1210,61 @@ int main(int argc, char** argv) {
            << grouped(r, "peak_rss_mib") << " MiB |\n\n";
     }
 
-    // ---- 15. the ClickHouse store's pushed-down reads vs ClickHouse's own SQL (clickhouse_store_bench) --
+    // ---- 15. the ClickHouse store against the embedded store and ClickHouse's own SQL
+    // (clickhouse_store_bench)
     if (const auto reads = find("clickhouse_store_read"); !reads.empty()) {
-      const json* put = find1("clickhouse_store_put");
+      // The server's overhead on the reads answered by SQL alone (summaries carry the data-quality block,
+      // computed on the server's copy; tiles the shading and PNG: shown, not part of the target).
       double worst = 0;
-      for (const json* r : reads)
-        if (r->value("read", "") == "summary_1h" || r->value("read", "") == "summary_whole_day")
-          worst = std::max(worst, dbl(r, "overhead"));
-      targets.push_back({"15",
-                         "server overhead on the ClickHouse store (summaries, p50 vs ClickHouse's own SQL)",
-                         "<= 20 %", num(worst * 100, 0) + " %", worst <= 0.20});
-      body << "## 15. The ClickHouse store: pushed-down reads against ClickHouse's own SQL\n\n"
+      std::string worst_read;
+      for (const json* r : reads) {
+        const std::string rd = r->value("read", "");
+        if ((rd == "flights_1h_page" || rd == "positions_at") && dbl(r, "overhead", 0) >= worst)
+          worst = dbl(r, "overhead", 0), worst_read = rd + ", " + str(r, "set") + " ×" + str(r, "scale");
+      }
+      targets.push_back(
+          {"15",
+           "server overhead on the ClickHouse store (flight list, positions: p50 vs ClickHouse's own SQL)",
+           "<= 20 %", num(worst * 100, 0) + " % (" + worst_read + ")", worst <= 0.20});
+      body << "## 15. The ClickHouse store: embedded vs cluster, and against ClickHouse's own SQL\n\n"
               "`clickhouse_store_bench` on a local cluster of 2 shards × 2 replicas "
               "(`tests/cluster/cluster.sh`, "
-              "this machine): the Europe SO6 day put into it";
-      if (put)
-        body << " (" << grouped(put, "points") << " points, " << ms(put, "put_ms") << " ms, "
-             << grouped(put, "points_per_s") << " points/s with the segments)";
-      body
-          << ", then each read the store runs on the shards three ways: **TrailScope** (the store's call and "
-             "the JSON the route sends: SQL, merge, the summary's position jumps on the server's copy), "
-             "**ClickHouse** (the same SQL alone through a plain HTTP client) and the **embedded** store "
-             "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1; the tile's "
-             "is the shading and PNG on top of ClickHouse's line-density count (its level's span cached).\n\n"
-             "| read | SQL queries | TrailScope p50 | ClickHouse p50 | overhead | embedded p50 | same bytes "
-             "|\n"
-             "|---|---|---|---|---|---|---|\n";
+              "every node on this machine): the Europe SO6 day and the demo day (7,400 flights), each also "
+              "repeated with every copy shifted by a day (×N), put into the cluster and into an embedded "
+              "store. Ingest = the store's "
+              "put() of parsed trails (the parse is the same for both): the cluster's writes every point, "
+              "segment and flight row to both replicas of its shard; bytes on disk count every replica.\n\n"
+              "| set | scale | points | cluster ingest | cluster rows/s | embedded ingest | cluster disk, "
+              "bytes/point "
+              "(points + segments, all replicas) | embedded disk, bytes/point | describe (fresh store) | "
+              "fetch "
+              "of the whole copy |\n|---|---|---|---|---|---|---|---|---|---|\n";
+      for (const json* r : find("clickhouse_store_put")) {
+        const double pts = dbl(r, "points", 1);
+        const double cb = dbl(r, "cluster_points_bytes", 0) + dbl(r, "cluster_segments_bytes", 0) +
+                          dbl(r, "cluster_flights_bytes", 0);
+        body << "| " << str(r, "set") << " | ×" << str(r, "scale") << " | " << grouped(r, "points") << " | "
+             << grouped(r, "points_per_s") << " points/s | " << grouped(r, "rows_per_s") << " | "
+             << grouped(r, "embedded_points_per_s") << " points/s | " << num(cb / pts, 1) << " | "
+             << num(dbl(r, "embedded_disk_bytes", 0) / pts, 1) << " | " << ms(r, "describe_ms") << " ms | "
+             << ms(r, "fetch_ms") << " ms |\n";
+      }
+      body << "\nEach read three ways: **TrailScope** (the ClickHouse store's call on the dataset as the "
+              "routes hold it, and the JSON the route sends: SQL, merge, and what stays on the server: the "
+              "summary's data-quality block and a tile's span on the server's copy, shading and PNG), "
+              "**ClickHouse** (the same SQL alone through a plain HTTP client) and the **embedded** store "
+              "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1. Warm span: the tile's "
+              "zoom was drawn before (every tile of a zoom after the first); cold: the span is computed "
+              "too.\n\n"
+              "| set | scale | read | SQL queries | TrailScope p50 | ClickHouse p50 | overhead | embedded "
+              "p50 | "
+              "same bytes |\n|---|---|---|---|---|---|---|---|---|\n";
       for (const json* r : reads)
-        body << "| " << str(r, "read") << " | " << str(r, "sql_queries") << " | "
-             << ms(r, "trailscope_ms_p50") << " ms | " << ms(r, "clickhouse_ms_p50") << " ms | "
-             << num(dbl(r, "overhead") * 100, 0) << " % | " << ms(r, "embedded_ms_p50") << " ms | "
-             << (r->value("match_embedded", false) ? "yes" : "**NO**") << " |\n";
+        body << "| " << str(r, "set") << " | ×" << str(r, "scale") << " | " << str(r, "read") << " | "
+             << str(r, "sql_queries") << " | " << ms(r, "trailscope_ms_p50") << " ms | "
+             << ms(r, "clickhouse_ms_p50") << " ms | " << num(dbl(r, "overhead") * 100, 0) << " % | "
+             << ms(r, "embedded_ms_p50") << " ms | " << (r->value("match_embedded", false) ? "yes" : "**NO**")
+             << " |\n";
       body << "\n";
     }
 

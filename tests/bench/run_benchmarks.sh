@@ -230,7 +230,8 @@ if command -v clickhouse-server >/dev/null && [ -f /usr/share/java/zookeeper.jar
   record env "${BCL_ENV[@]}" bash tests/cluster/cluster.sh up
   BCL_URL=$(env "${BCL_ENV[@]}" bash tests/cluster/cluster.sh up | sed -n 's/^--store //p')
   cmake --build "$BUILD_DIR" -j "$(nproc)" --target clickhouse_store_bench 2>&1 | tail -n 2 | tee -a "$LOG" >&2
-  run "$B/clickhouse_store_bench" --so6 "$SO6" --store "$BCL_URL" --reps "${CH_STORE_REPS:-15}"
+  run "$B/clickhouse_store_bench" --so6 "$SO6" --store "$BCL_URL" --reps "${CH_STORE_REPS:-15}" \
+    --scales 1 --demo-scales "${CH_STORE_DEMO_SCALES:-1,8}" --tmp "$OUT/clickhouse_store_bench"
   for f in "$OUT"/cluster/node?/pid "$OUT"/cluster/zk/pid; do  # their CPU is ours, not other people's
     [ -f "$f" ] && OWN_EXTRA_CPU=$(awk -v a="$OWN_EXTRA_CPU" -v b="$(proc_cpu_s "$(cat "$f")")" 'BEGIN { printf "%.2f", a + b }')
   done

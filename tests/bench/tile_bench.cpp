@@ -20,6 +20,7 @@
 #include <limits>
 
 #include "bench_util.hpp"
+#include "store/clickhouse_tile_sql.hpp"
 #include "trailscope/core/backend.hpp"
 #include "trailscope/density/density.hpp"
 #include "trailscope/ingest/ingest.hpp"
@@ -54,6 +55,26 @@ static den::TileRequest request(const TileCase& tc, const DataCase& d, ts::Backe
 
 static std::string tile_name(const ts::geo::TileId& t) {
   return ts::geo::to_string(t);
+}
+
+/// The line-density count tile in ClickHouse over a peer segment table (peer_seg_layouts(): columns xa,
+/// ya, xb, yb, their bbox xmin..ymax, seg, prev_dt): the SQL the ClickHouse store sends to its shards
+/// (store/clickhouse_tile_sql.hpp line_tile_sql), with the peer table's run breaks: a segment continues a
+/// run when it is not its flight's first and, with a finite `max_gap`, the step before it is at most
+/// max_gap (longer steps are not drawn). Not covered: the extra copies of segments across 180° (none
+/// meets the benchmark's tiles).
+std::string peer_line_tile_sql(const std::string& table, const trailscope::geo::TileId& t, int size,
+                               double max_gap) {
+  namespace geo = trailscope::geo;
+  const std::int64_t x0 = geo::tile_origin_x(t), y0 = geo::tile_origin_y(t), span = geo::tile_size_units(t.z);
+  const std::int64_t P = span / size;
+  const bool gap = std::isfinite(max_gap);
+  return trailscope::server::line_tile_sql(
+      {P, x0 / P, y0 / P, size, size}, gap ? "(seg > 0 AND prev_dt <= " + lit(max_gap) + ")" : "(seg > 0)",
+      "xa", "ya", "xb", "yb",
+      "FROM " + table + " WHERE xmax >= " + std::to_string(x0) + " AND xmin < " + std::to_string(x0 + span) +
+          " AND ymax >= " + std::to_string(y0) + " AND ymin < " + std::to_string(y0 + span) +
+          (gap ? " AND t1 - t0 <= " + lit(max_gap) : ""));
 }
 
 int main(int argc, char** argv) {

@@ -24,13 +24,13 @@ Response list_datasets(App& app, const Request& req, const PathParams&) {
 
 Response get_dataset(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
-  return Response::json(200, app.store->get(p.at("dataset"))->to_json());
+  return Response::json(200, app.store->describe(p.at("dataset"))->to_json());
 }
 
 Response delete_dataset(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, {});
   const std::string id = p.at("dataset");
-  require_owner(req, "dataset", "dataset", id, app.store->get(id)->owner);  // after get's 404
+  require_owner(req, "dataset", "dataset", id, app.store->describe(id)->owner);  // after describe's 404
   app.store->remove(id);
   app.tiles.erase_prefix(params::dataset_cache_prefix(id));
   app.animation_chunks.erase_prefix(params::dataset_cache_prefix(id));
@@ -79,7 +79,7 @@ Response create_dataset(App& app, const Request& req, const PathParams&) {
 
 Response summary(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, params::with_query_keys({"bins", "top", "format", "table"}));
-  const auto ds = app.store->get(p.at("dataset"));
+  const auto ds = app.store->describe(p.at("dataset"));
   const Query q = parse_query(req.query);
   SummaryOptions opts;
   opts.bins = static_cast<int>(params::integer(req, "bins", opts.bins, 1, limits::kMaxHistogramBins));
@@ -114,7 +114,7 @@ Response summary(App& app, const Request& req, const PathParams& p) {
 
 Response list_flights(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req, params::with_query_keys({"page", "page_size", "sort", "order"}));
-  const auto ds = app.store->get(p.at("dataset"));
+  const auto ds = app.store->describe(p.at("dataset"));
   const Query q = parse_query(req.query);
   const auto page = params::integer(req, "page", 0, 0, 1'000'000'000);
   const auto size = params::integer(req, "page_size", limits::kDefaultPageSize, 1, limits::kMaxPageSize);

@@ -12,7 +12,7 @@ Response positions(App& app, const Request& req, const PathParams& p) {
   // t0 and t1 are allowed through here so that positions_at() refuses them by name, rather than the
   // generic "unknown query parameter".
   reject_unknown_params(req, params::with_query_keys({"t", "format", "max_positions"}));
-  const auto ds = app.store->get(p.at("dataset"));
+  const auto ds = app.store->describe(p.at("dataset"));
   const auto t_param = req.query.find("t");
   if (t_param == req.query.end())
     throw invalid_argument("t", "t: the instant is required (?t=Unix seconds or ISO 8601)");

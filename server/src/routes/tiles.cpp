@@ -29,7 +29,7 @@ void shading_params(const Request& req, density::TileRequest& t) {
 Response density_tile(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(req,
                         params::with_query_keys({"value", "how", "cmap", "size", "kernel", "min_level"}));
-  const auto ds = app.store->get(p.at("dataset"));
+  const auto ds = app.store->describe(p.at("dataset"));
   const Query q = parse_query(req.query);
   const params::TileCoords c = params::tile_coords(req, p);
   density::TileRequest t;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "store/clickhouse_tile_sql.hpp"
 #include "store/failpoint.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/density/tile_parts.hpp"
@@ -138,10 +139,12 @@ ClickHouseStore::ClickHouseStore(const ClickHouseUrl& url, bool leftovers,
   create_tables();
   // The catalogue: the highest version of each id, visible unless deleted.
   const std::string rows = client_.query(
-      "SELECT id, name, format, created, owner, ingest FROM (SELECT id, argMax(deleted, version) AS del, "
+      "SELECT id, name, format, created, owner, ingest, points FROM (SELECT id, argMax(deleted, version) AS "
+      "del, "
       "argMax(name, version) AS name, argMax(format, version) AS format, argMax(created, version) AS "
       "created, "
-      "argMax(owner, version) AS owner, argMax(ingest, version) AS ingest FROM " +
+      "argMax(owner, version) AS owner, argMax(ingest, version) AS ingest, argMax(points, version) AS "
+      "points FROM " +
       db_ + ".catalogue GROUP BY id) WHERE del = 0 FORMAT RowBinary");
   RowReader r{rows};
   while (!r.done()) {
@@ -150,6 +153,7 @@ ClickHouseStore::ClickHouseStore(const ClickHouseUrl& url, bool leftovers,
     m.name = r.str(), m.format = r.str(), m.created = r.str(), m.owner = r.str();
     m.ingest = nlohmann::json::parse(r.str(), nullptr, false);
     if (m.ingest.is_discarded()) m.ingest = nlohmann::json::object();
+    m.points = r.num<std::uint64_t>();
     catalogue_[id] = std::move(m);
   }
   if (leftovers) remove_leftovers();
@@ -171,7 +175,17 @@ void ClickHouseStore::create_tables() {
       "SELECT count() FROM system.tables WHERE database = " + ClickHouseClient::quote(db_) +
       " AND name IN ('points_local', 'segments_local', 'flights_local', 'points', 'segments', 'flights', "
       "'catalogue') FORMAT TSV");
-  if (have == "7\n") return;
+  // Flight extents and prev_t came later: a database made before them is read without (describe() and
+  // windowed tiles fetch the copy).
+  auto check_extents = [&] {
+    segment_prev_t_ =
+        client_.query("SELECT count() FROM system.columns WHERE database = " + ClickHouseClient::quote(db_) +
+                      " AND table = 'segments_local' AND name = 'prev_t' FORMAT TSV") == "1\n";
+    flight_extents_ =
+        client_.query("SELECT count() FROM system.columns WHERE database = " + ClickHouseClient::quote(db_) +
+                      " AND table = 'flights_local' AND name = 'crosses' FORMAT TSV") == "1\n";
+  };
+  if (have == "7\n") return check_extents();
   client_.query("CREATE DATABASE IF NOT EXISTS " + db_ + on);
   client_.query(
       "CREATE TABLE IF NOT EXISTS " + db_ + ".points_local" + on +
@@ -181,11 +195,12 @@ void ClickHouseStore::create_tables() {
       replicated("points_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
   client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".segments_local" + on +
                 " (dataset String, idx UInt32, flight UInt32, t0 Float64, t1 Float64, x0 UInt32, y0 UInt32, "
-                "x1 UInt32, y1 UInt32, morton UInt64, hour Int32) ENGINE = " +
+                "x1 UInt32, y1 UInt32, morton UInt64, hour Int32, prev_t Float64) ENGINE = " +
                 replicated("segments_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
   client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".flights_local" + on +
-                " (dataset String, flight UInt32, begin UInt32, end UInt32, icao24 String, callsign String) "
-                "ENGINE = " +
+                " (dataset String, flight UInt32, begin UInt32, end UInt32, icao24 String, callsign String, "
+                "t_min Float64, t_max Float64, lat_min Float32, lat_max Float32, lon_min Float32, lon_max "
+                "Float32, alt_min Float32, alt_max Float32, crosses UInt8) ENGINE = " +
                 replicated("flights_local") + " PARTITION BY dataset ORDER BY flight");
   for (const char* t : {"points", "segments", "flights"}) client_.query(distributed(t));
   // Replicated on every node (one replica set for the whole cluster): any node answers list().
@@ -194,6 +209,7 @@ void ClickHouseStore::create_tables() {
                 "owner String, ingest String, points UInt64, flights UInt64) ENGINE = "
                 "ReplicatedMergeTree('/clickhouse/tables/all/" +
                 db_ + "/catalogue', '{shard}-{replica}') ORDER BY (id, version)");
+  check_extents();
 }
 
 bool ClickHouseStore::has_rows(const std::string& id) const {
@@ -237,7 +253,7 @@ std::vector<std::shared_ptr<const Dataset>> ClickHouseStore::list() const {
   }
   std::vector<std::shared_ptr<const Dataset>> out;
   for (const auto& id : ids) try {
-      out.push_back(get(id));
+      out.push_back(describe(id));
     } catch (const Error& e) {
       if (e.kind() != Error::Kind::not_found) throw;  // deleted meanwhile
     }
@@ -251,56 +267,113 @@ bool ClickHouseStore::contains(const std::string& id) const {
 
 std::shared_ptr<const Dataset> ClickHouseStore::get(const std::string& id) const {
   Meta meta;
+  auto kept = [&]() -> std::shared_ptr<const Dataset> {
+    for (auto it = loaded_.begin(); it != loaded_.end(); ++it)
+      if ((*it)->id == id) {
+        auto ds = *it;
+        loaded_.erase(it);
+        loaded_.insert(loaded_.begin(), ds);
+        return ds;
+      }
+    return nullptr;
+  };
   {
     std::lock_guard lock(mu_);
     auto it = catalogue_.find(id);
     if (it == catalogue_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
-    if (auto l = loaded_.find(id); l != loaded_.end()) return l->second;
+    if (auto ds = kept()) return ds;
     meta = it->second;
   }
   std::lock_guard load_lock(load_mu_);
   {
     std::lock_guard lock(mu_);
-    if (auto l = loaded_.find(id); l != loaded_.end()) return l->second;
+    if (auto ds = kept()) return ds;
   }
   auto ds = load(id, meta);
+  ++fetches_;
   std::lock_guard lock(mu_);
   if (!catalogue_.count(id)) throw not_found("dataset", "dataset '" + id + "' does not exist");
-  loaded_[id] = ds;
+  loaded_.insert(loaded_.begin(), ds);
+  if (loaded_.size() > kKeptCopies) loaded_.resize(kKeptCopies);
+  if (!outlines_.count(id)) outlines_[id] = outline_of(*ds);
   return ds;
+}
+
+std::shared_ptr<const Dataset> ClickHouseStore::outline_of(const Dataset& full) {
+  auto d = std::make_shared<Dataset>();
+  d->id = full.id, d->name = full.name, d->format = full.format, d->created = full.created;
+  d->ingest = full.ingest, d->owner = full.owner;
+  d->outline = std::make_shared<const TrailSet>(PointColumns{}, full.flights());
+  d->outline_points = full.num_points();
+  return d;
+}
+
+std::shared_ptr<const Dataset> ClickHouseStore::describe(const std::string& id) const {
+  Meta meta;
+  {
+    std::lock_guard lock(mu_);
+    auto it = catalogue_.find(id);
+    if (it == catalogue_.end()) throw not_found("dataset", "dataset '" + id + "' does not exist");
+    if (auto o = outlines_.find(id); o != outlines_.end()) return o->second;
+    meta = it->second;
+  }
+  // Without the extent columns the flights' extents need the points.
+  if (!flight_extents_) return outline_of(*get(id));
+  auto d = std::make_shared<Dataset>();
+  d->id = id, d->name = meta.name, d->format = meta.format, d->created = meta.created;
+  d->ingest = meta.ingest, d->owner = meta.owner;
+  d->outline = std::make_shared<const TrailSet>(PointColumns{}, load_flights(id));
+  d->outline_points = meta.points;
+  for (const Flight& f : d->outline->flights())
+    if (f.begin > f.end || f.end > meta.points)
+      throw Error(Error::Kind::internal, "store",
+                  "ClickHouse: dataset '" + id + "' has a flight range outside its points");
+  std::lock_guard lock(mu_);
+  if (!catalogue_.count(id)) throw not_found("dataset", "dataset '" + id + "' does not exist");
+  return outlines_.emplace(id, std::move(d)).first->second;
+}
+
+std::vector<Flight> ClickHouseStore::load_flights(const std::string& id) const {
+  const std::string frows = client_.query(
+      "SELECT flight, begin, end, icao24, callsign" +
+      std::string(flight_extents_
+                      ? ", t_min, t_max, lat_min, lat_max, lon_min, lon_max, alt_min, alt_max, crosses"
+                      : "") +
+      " FROM " + db_ + ".flights WHERE dataset = " + ClickHouseClient::quote(id) + " FORMAT RowBinary");
+  RowReader fr{frows};
+  std::vector<std::pair<std::uint32_t, Flight>> rows;
+  while (!fr.done()) {
+    std::pair<std::uint32_t, Flight> row;
+    Flight& f = row.second;
+    row.first = fr.num<std::uint32_t>();
+    f.begin = fr.num<std::uint32_t>(), f.end = fr.num<std::uint32_t>();
+    f.icao24 = fr.str(), f.callsign = fr.str();
+    if (flight_extents_) {
+      f.t_min = fr.num<double>(), f.t_max = fr.num<double>();
+      f.lat_min = fr.num<float>(), f.lat_max = fr.num<float>(), f.lon_min = fr.num<float>();
+      f.lon_max = fr.num<float>(), f.alt_min = fr.num<float>(), f.alt_max = fr.num<float>();
+      f.crosses_antimeridian = fr.num<std::uint8_t>() != 0;
+    }
+    rows.push_back(std::move(row));
+  }
+  std::vector<Flight> flights(rows.size());
+  std::vector<bool> seen(rows.size(), false);
+  for (auto& [i, f] : rows) {
+    if (i >= flights.size() || seen[i])
+      throw Error(Error::Kind::internal, "store",
+                  "ClickHouse: dataset '" + id + "' has an inconsistent flight table");
+    seen[i] = true;
+    flights[i] = std::move(f);
+  }
+  return flights;
 }
 
 std::shared_ptr<const Dataset> ClickHouseStore::load(const std::string& id, const Meta& meta) const {
   const std::string where = " WHERE dataset = " + ClickHouseClient::quote(id);
-  const std::string frows = client_.query("SELECT flight, begin, end, icao24, callsign FROM " + db_ +
-                                          ".flights" + where + " FORMAT RowBinary");
-  std::vector<Flight> flights;
-  std::vector<bool> seen_flight;
-  RowReader fr{frows};
+  std::vector<Flight> flights = load_flights(id);
   auto corrupt = [&](const std::string& what) {
     return Error(Error::Kind::internal, "store", "ClickHouse: dataset '" + id + "' " + what);
   };
-  struct FlightRow {
-    std::uint32_t flight, begin, end;
-    std::string icao24, callsign;
-  };
-  std::vector<FlightRow> frs;
-  while (!fr.done()) {
-    FlightRow f;
-    f.flight = fr.num<std::uint32_t>(), f.begin = fr.num<std::uint32_t>(), f.end = fr.num<std::uint32_t>();
-    f.icao24 = fr.str(), f.callsign = fr.str();
-    frs.push_back(std::move(f));
-  }
-  flights.resize(frs.size());
-  seen_flight.assign(frs.size(), false);
-  for (auto& f : frs) {
-    if (f.flight >= flights.size() || seen_flight[f.flight])
-      throw corrupt("has an inconsistent flight table");
-    seen_flight[f.flight] = true;
-    Flight& g = flights[f.flight];
-    g.begin = f.begin, g.end = f.end, g.icao24 = std::move(f.icao24), g.callsign = std::move(f.callsign);
-  }
-  frs.clear();
 
   const std::string prows =
       client_.query("SELECT idx, t, lat, lon, alt, speed, track, vrate, on_ground FROM " + db_ + ".points" +
@@ -383,14 +456,22 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
       failpoint("clickhouse.insert.batch");
     };
     std::size_t rows = 0;
+    const std::string fcols =
+        std::string("dataset, flight, begin, end, icao24, callsign") +
+        (flight_extents_ ? ", t_min, t_max, lat_min, lat_max, lon_min, lon_max, alt_min, alt_max, crosses"
+                         : "");
     for (std::size_t f = 0; f < nf; ++f) {
       const Flight& fl = t.flights()[f];
       rb.str(ds->id), rb.num<std::uint32_t>(f), rb.num(fl.begin), rb.num(fl.end), rb.str(fl.icao24),
           rb.str(fl.callsign);
-      if (++rows == kBatchRows)
-        flush("flights", "dataset, flight, begin, end, icao24, callsign", rows), rows = 0;
+      if (flight_extents_) {
+        rb.num(fl.t_min), rb.num(fl.t_max), rb.num(fl.lat_min), rb.num(fl.lat_max), rb.num(fl.lon_min),
+            rb.num(fl.lon_max), rb.num(fl.alt_min), rb.num(fl.alt_max);
+        rb.num<std::uint8_t>(fl.crosses_antimeridian ? 1 : 0);
+      }
+      if (++rows == kBatchRows) flush("flights", fcols, rows), rows = 0;
     }
-    flush("flights", "dataset, flight, begin, end, icao24, callsign", rows), rows = 0;
+    flush("flights", fcols, rows), rows = 0;
     const auto& mx = t.merc_x();
     const auto& my = t.merc_y();
     const std::string pcols =
@@ -403,7 +484,8 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
       if (++rows == kBatchRows) flush("points", pcols, rows), rows = 0;
     }
     flush("points", pcols, rows), rows = 0;
-    const std::string scols = "dataset, idx, flight, t0, t1, x0, y0, x1, y1, morton, hour";
+    const std::string scols = std::string("dataset, idx, flight, t0, t1, x0, y0, x1, y1, morton, hour") +
+                              (segment_prev_t_ ? ", prev_t" : "");
     for (std::size_t f = 0; f < nf; ++f) {
       const Flight& fl = t.flights()[f];
       for (std::uint32_t i = fl.begin; i + 1 < fl.end; ++i) {
@@ -411,13 +493,15 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
             rb.num(p.t[i + 1]);
         rb.num(mx[i]), rb.num(my[i]), rb.num(mx[i + 1]), rb.num(my[i + 1]);
         rb.num(morton(mx[i], my[i])), rb.num(hour_of(p.t[i]));
+        if (segment_prev_t_) rb.num(i > fl.begin ? p.t[i - 1] : std::numeric_limits<double>::quiet_NaN());
         if (++rows == kBatchRows) flush("segments", scols, rows), rows = 0;
       }
     }
     flush("segments", scols, rows), rows = 0;
     failpoint("clickhouse.before_catalogue");
     // The catalogue row, last: from now on the dataset is visible.
-    write_catalogue_row(ds->id, false, Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest}, n, nf);
+    write_catalogue_row(ds->id, false, Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest, n}, n,
+                        nf);
     report(1);
   } catch (...) {
     // Not in the catalogue: invisible; its rows go now or, if the cluster cannot be reached, at the next
@@ -431,8 +515,8 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
     throw;
   }
   std::lock_guard lock(mu_);
-  catalogue_[ds->id] = Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest};
-  loaded_[ds->id] = ds;
+  catalogue_[ds->id] = Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest, n};
+  outlines_[ds->id] = outline_of(*ds);
 }
 
 // ---- push-down ------------------------------------------------------------------------------------------
@@ -440,11 +524,11 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
 bool ClickHouseStore::pushable(const Dataset& ds) {
   std::size_t covered = 0;
   std::uint32_t next = 0;
-  for (const Flight& f : ds.trails->flights()) {
+  for (const Flight& f : ds.flights()) {
     if (f.begin != next) return false;
     covered += f.size(), next = f.end;
   }
-  return covered == ds.trails->num_points();
+  return covered == ds.num_points();
 }
 
 std::string ClickHouseStore::read(const std::string& sql) const {
@@ -491,7 +575,7 @@ std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) cons
   if (q.on_ground) w += std::string(" AND on_ground = ") + (*q.on_ground ? "1" : "0");
   if (!q.icao24.empty() || !q.callsign.empty()) {
     std::string ids;
-    const auto& flights = ds.trails->flights();
+    const auto& flights = ds.flights();
     for (std::size_t f = 0; f < flights.size(); ++f)
       if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
     if (ids.empty()) return "";
@@ -501,8 +585,8 @@ std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) cons
 }
 
 Summary ClickHouseStore::summarize(const Dataset& ds, const Query& q, const SummaryOptions& opts) const {
-  if (!pushable(ds)) return LocalReads{}.summarize(ds, q, opts);
-  const TrailSet& set = *ds.trails;
+  if (!pushable(ds)) return LocalReads{}.summarize(*whole(ds), q, opts);
+  const TrailSet& set = ds.shape();
   double top_alt = 0;
   for (const Flight& f : set.flights())
     if (!std::isnan(f.alt_max)) top_alt = std::max<double>(top_alt, f.alt_max);
@@ -561,15 +645,15 @@ Summary ClickHouseStore::summarize(const Dataset& ds, const Query& q, const Summ
       if (fl[i] < c.matched.size()) c.matched[fl[i]] = static_cast<std::uint32_t>(fc[i]);
   }
   // Position jumps follow each flight's samples in order (see the header): on the server's copy.
-  return finish_summary(l, opts, std::move(c), set.flights(), check_quality(set, q));
+  return finish_summary(l, opts, std::move(c), set.flights(), check_quality(*whole(ds)->trails, q));
 }
 
 FlightPage ClickHouseStore::list_flights(const Dataset& ds, const Query& q, std::size_t page,
                                          std::size_t page_size, const FlightSort& sort) const {
-  if (!pushable(ds)) return LocalReads{}.list_flights(ds, q, page, page_size, sort);
+  if (!pushable(ds)) return LocalReads{}.list_flights(*whole(ds), q, page, page_size, sort);
   if (page_size < 1 || page_size > limits::kMaxPageSize)
     throw invalid_argument("page_size", "page_size must lie in 1..1000");
-  const auto& flights = ds.trails->flights();
+  const auto& flights = ds.flights();
   std::vector<FlightRow> rows;
   const std::string where = point_where(ds, q);
   if (!where.empty()) {
@@ -600,10 +684,10 @@ FlightPage ClickHouseStore::list_flights(const Dataset& ds, const Query& q, std:
 Positions ClickHouseStore::positions_at(const Dataset& ds, double t, const Query& q,
                                         std::size_t max_positions) const {
   validate_positions_query(t, q);
-  if (!pushable(ds)) return LocalReads{}.positions_at(ds, t, q, max_positions);
+  if (!pushable(ds)) return LocalReads{}.positions_at(*whole(ds), t, q, max_positions);
   // The flights present at t that the query may match, by their extents (as positions_at() skips them);
   // their samples around t lie within the hours of their extents.
-  const auto& flights = ds.trails->flights();
+  const auto& flights = ds.flights();
   std::string ids;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (std::size_t f = 0; f < flights.size(); ++f) {
@@ -650,85 +734,66 @@ std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRen
                                           const std::string& dataset_key, const Query& q,
                                           const density::TileRequest& request) const {
   namespace den = trailscope::density;
-  const bool whole = !q.t0 && !q.t1 && !q.alt_min && !q.alt_max && !q.bbox && !q.on_ground &&
-                     q.icao24.empty() && q.callsign.empty();
-  bool wraps = false;
-  for (const Flight& f : ds.trails->flights()) wraps = wraps || f.crosses_antimeridian;
-  if (!whole || wraps || request.value != den::DensityValue::count || request.kernel_radius != 0 ||
-      std::isfinite(request.max_gap_seconds) || !pushable(ds))
-    return LocalReads{}.density_tile(ds, renderer, dataset_key, q, request);
+  // Pushed down: count tiles drawing every segment (no gap limit) of datasets without a flight across
+  // 180° (whose wrapped copies the SQL does not draw), under flight filters (icao24, callsign: a matching
+  // flight is drawn whole) and a time window (see below), smoothed or not. Point filters on altitude,
+  // position or ground state, and altitude/speed values, are drawn from the fetched copy.
   den::validate(request);
-  const std::shared_ptr<const den::SpanStats> span = renderer.span_for(*ds.trails, dataset_key, q, request);
+  const bool point_filter = q.alt_min || q.alt_max || q.bbox || q.on_ground;
+  const bool window = q.t0 || q.t1;
+  const int grow = static_cast<int>(std::ceil(request.kernel_radius));
   const den::Canvas canvas = den::Canvas::for_tile(request.tile, request.size);
-  den::Aggregate agg = den::Aggregate::zeros(canvas.width(), canvas.height(), false);
+  const den::Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
+  bool wraps = false;
+  for (const Flight& f : ds.flights()) wraps = wraps || f.crosses_antimeridian;
+  if (point_filter || wraps || (window && !segment_prev_t_) || request.value != den::DensityValue::count ||
+      std::isfinite(request.max_gap_seconds) || work.origin_x() < 0 ||
+      work.end_x() > (std::int64_t{1} << 32) || !pushable(ds))
+    return LocalReads{}.density_tile(*whole(ds), renderer, dataset_key, q, request);
+  // The level's span: from the fetched copy once per zoom, then from the renderer's cache.
+  const std::shared_ptr<const den::SpanStats> span =
+      renderer.span_for(*whole(ds)->trails, dataset_key, q, request);
+  den::Aggregate agg = den::Aggregate::zeros(work.width(), work.height(), false);
 
-  // The pixels (c, r) of the global grid of pixel size P each segment touches, as density_lines() walks
-  // them (closed segment, half-open pixel squares): oriented left to right (lx <= hx), one row per pixel
-  // column c it crosses inside the tile, in that column x in [max(lx, cP), min(hx, (c+1)P)] (right end
-  // open at the column's edge), and, y being linear in x, the pixel rows between those of its two ends,
-  // y = ly ± (x − lx)·|dy| / dx done exactly in UInt64 with intDiv and the remainder; then one row per
-  // pixel row. A segment that continues its flight's run (its first point is not the flight's first)
-  // leaves out the pixel of its first endpoint. (Bresenham-free column sweep; the same SQL as
-  // tests/bench/bench_util.hpp peer_line_tile_sql.)
-  const std::int64_t P = canvas.pixel_units(), x0 = canvas.origin_x(), y0 = canvas.origin_y();
-  const std::int64_t C0 = x0 / P, R0 = y0 / P, W = canvas.width(), H = canvas.height();
-  const std::string sP = std::to_string(P), sC0 = std::to_string(C0), sR0 = std::to_string(R0),
-                    sCmax = std::to_string(C0 + W - 1), sRmax = std::to_string(R0 + H - 1);
-  std::string begins;
-  for (const Flight& f : ds.trails->flights())
-    begins += (begins.empty() ? "" : ",") + std::to_string(f.begin);
-  const std::string segs =
-      "SELECT NOT (idx IN (" + begins +
-      ")) AS cont, toInt64(x0) AS xa, toInt64(y0) AS ya, toInt64(x1) AS xb, "
-      "toInt64(y1) AS yb, intDiv(xa, " +
-      sP + ") AS pa_c, intDiv(ya, " + sP +
-      ") AS pa_r, "
-      "xa <= xb AS fwd, if(fwd, xa, xb) AS lx, if(fwd, ya, yb) AS ly, if(fwd, xb, xa) AS hx, if(fwd, yb, ya) "
-      "AS hy, "
-      "hx - lx AS dx, hy - ly AS dy, toUInt64(abs(dy)) AS ady, toUInt64(greatest(dx, 1)) AS ddx, "
-      "greatest(intDiv(lx, " +
-      sP + "), " + sC0 + ") AS c_lo, least(intDiv(hx, " + sP + "), " + sCmax +
-      ") AS c_hi "
-      "FROM " +
-      db_ + ".segments WHERE dataset = " + ClickHouseClient::quote(ds.id) +
-      " AND greatest(x0, x1) >= " + std::to_string(x0) + " AND least(x0, x1) < " +
-      std::to_string(canvas.end_x()) + " AND greatest(y0, y1) >= " + std::to_string(y0) +
-      " AND least(y0, y1) < " + std::to_string(canvas.end_y());
-  const std::string cols =
-      "SELECT cont, pa_c, pa_r, lx, ly, hx, dx, dy, ady, ddx, "
-      "c_lo + toInt64(arrayJoin(range(toUInt64(greatest(c_hi - c_lo + 1, 0))))) AS c FROM (" +
-      segs + ")";
-  const std::string rows =
-      "SELECT cont, pa_c, pa_r, c, greatest(lx, c * " + sP + ") AS xl, least(hx, (c + 1) * " + sP +
-      ") AS xr, "
-      "hx >= (c + 1) * " +
-      sP +
-      " AS open_r, "
-      "toUInt64(xl - lx) * ady AS ul, toUInt64(xr - lx) * ady AS ur, "
-      "toInt64(intDiv(ul, ddx)) AS ql, ul % ddx AS ml, toInt64(intDiv(ur, ddx)) AS qr, ur % ddx AS mr, "
-      "toInt64(multiIf(dx = 0, intDiv(least(ly, ly + dy), " +
-      sP + "), dy >= 0, intDiv(ly + ql, " + sP +
-      "), "
-      "intDiv(ly - ql - (ml > 0), " +
-      sP +
-      "))) AS j_l, "
-      "toInt64(multiIf(dx = 0, intDiv(greatest(ly, ly + dy), " +
-      sP + "), dy > 0, intDiv(ly + qr, " + sP + ") - (open_r AND mr = 0 AND (ly + qr) % " + sP +
-      " = 0), dy = 0, intDiv(ly, " + sP +
-      "), "
-      "intDiv(ly - qr - (mr > 0), " +
-      sP +
-      "))) AS j_r, "
-      "greatest(least(j_l, j_r), " +
-      sR0 + ") AS r_lo, least(greatest(j_l, j_r), " + sRmax + ") AS r_hi FROM (" + cols + ")";
-  const std::string pix =
-      "SELECT cont, pa_c, pa_r, c, r_lo + toInt64(arrayJoin(range(toUInt64(greatest(r_hi - r_lo + 1, 0))))) "
-      "AS r "
-      "FROM (" +
-      rows + ")";
-  const std::string sql = "SELECT toUInt32((r - " + sR0 + ") * " + std::to_string(W) + " + (c - " + sC0 +
-                          ")) AS pos, toUInt32(count()) FROM (" + pix +
-                          ") WHERE NOT (cont AND c = pa_c AND r = pa_r) GROUP BY pos FORMAT RowBinary";
+  // The pixels of each segment as density_lines() walks them on the work canvas (the tile and the
+  // kernel's margin), counted on the shards: the SQL of clickhouse_tile_sql.hpp (the tile benchmark's
+  // ClickHouse peer runs the same builder). A segment that continues a drawn run leaves out the pixel of
+  // its first endpoint. Within a window [t0, t1) a segment is drawn when both its points are in it, and it
+  // continues a run when the point before its first is too (prev_t; NaN for a flight's first point,
+  // which no comparison passes); without one, when it is not its flight's first.
+  const std::int64_t P = work.pixel_units(), x0 = work.origin_x(), y0 = work.origin_y();
+  const LineTileGrid grid{P, x0 / P, y0 / P, work.width(), work.height()};
+  std::string where = "dataset = " + ClickHouseClient::quote(ds.id) +
+                      " AND greatest(x0, x1) >= " + std::to_string(x0) + " AND least(x0, x1) < " +
+                      std::to_string(work.end_x()) + " AND greatest(y0, y1) >= " + std::to_string(y0) +
+                      " AND least(y0, y1) < " + std::to_string(work.end_y());
+  std::string cont;
+  if (segment_prev_t_) {
+    cont = "NOT isNaN(prev_t)";
+    // Both points in the window; `hour` (the first point's) bounds the table's prefix.
+    if (q.t0)
+      where += " AND t0 >= " + sql_double(*q.t0) + " AND t1 >= " + sql_double(*q.t0) +
+               " AND hour >= " + std::to_string(hour_of(*q.t0)),
+          cont += " AND prev_t >= " + sql_double(*q.t0);
+    if (q.t1)
+      where += " AND t0 < " + sql_double(*q.t1) + " AND t1 < " + sql_double(*q.t1) +
+               " AND hour <= " + std::to_string(hour_of(*q.t1)),
+          cont += " AND prev_t < " + sql_double(*q.t1);
+  } else {
+    std::string begins;
+    for (const Flight& f : ds.flights()) begins += (begins.empty() ? "" : ",") + std::to_string(f.begin);
+    cont = "NOT (idx IN (" + begins + "))";
+  }
+  if (!q.icao24.empty() || !q.callsign.empty()) {
+    std::string ids;
+    const auto& flights = ds.flights();
+    for (std::size_t f = 0; f < flights.size(); ++f)
+      if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    where += " AND flight IN (" + (ids.empty() ? std::string("4294967295") : ids) + ")";
+  }
+  const std::string sql = line_tile_sql(grid, cont, "toInt64(x0)", "toInt64(y0)", "toInt64(x1)",
+                                        "toInt64(y1)", "FROM " + db_ + ".segments WHERE " + where) +
+                          " FORMAT RowBinary";
   const std::string body = read(sql);
   RowReader r{body};
   while (!r.done()) {
@@ -742,7 +807,7 @@ std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRen
   options.value = request.value;
   options.kernel_radius = request.kernel_radius;
   options.max_gap_seconds = request.max_gap_seconds;
-  return std::move(den::shade_tile(den::finish_aggregate(agg, canvas, options), *span, request).png);
+  return std::move(den::shade_tile(den::finish_aggregate(agg, work, options), *span, request).png);
 }
 
 void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,
@@ -773,7 +838,8 @@ void ClickHouseStore::remove(const std::string& id) {
   {
     std::lock_guard lock(mu_);
     catalogue_.erase(id);
-    loaded_.erase(id);
+    outlines_.erase(id);
+    std::erase_if(loaded_, [&](const auto& d) { return d->id == id; });
   }
   try {
     drop_partitions(id);

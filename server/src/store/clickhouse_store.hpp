@@ -10,8 +10,14 @@
 //                   no mortonEncode) and `hour` = floor(t / 3600). PARTITION BY dataset, ORDER BY (hour,
 //                   morton): a time window reads only its hours, a tile only its Morton ranges within them.
 //   segments_local  one row per pair of consecutive points of a flight: the first point's idx, t0, t1,
-//                   x0, y0, x1, y1 (UInt32 Web Mercator), the first point's morton and hour; same layout.
-//   flights_local   one row per flight: its index, point range [begin, end), icao24, callsign.
+//                   x0, y0, x1, y1 (UInt32 Web Mercator), the first point's morton and hour, and prev_t,
+//                   the time of the point before the first (NaN for a flight's first segment: whether a
+//                   windowed tile continues a run there); same layout. A database made before prev_t
+//                   draws windowed tiles from a fetched copy.
+//   flights_local   one row per flight: its index, point range [begin, end), icao24, callsign and the
+//                   extents compute_extents() gives it (t_min, t_max, lat/lon/alt min and max, whether it
+//                   crosses 180°). A database made before these columns existed is read as before: its
+//                   datasets are described from a fetched copy.
 //   points, segments, flights   Distributed over the *_local tables, sharded by intHash32(flight).
 //   catalogue       ReplicatedMergeTree replicated on every node: one row per change of a dataset (id,
 //                   version, deleted, name, format, created, owner, ingest report as JSON, points,
@@ -24,9 +30,13 @@
 // writes a `deleted` row first (one atomic insert) and then drops the partitions. One server owns a
 // database: a second server on the same database would remove the first one's ingest in flight.
 //
-// Reads: get() fetches a dataset's rows back into a TrailSet (kept in memory until the dataset is deleted),
-// identical to what was put; the routes that have no push-down below answer from it as from the embedded
-// store.
+// Reads: describe() and list() read only the catalogue and the flight table (each flight's point range,
+// addresses and extents, written at ingest): the dataset object, the flight list and the positions need
+// nothing more. get() fetches a dataset's rows back into a TrailSet identical to what was put, for the
+// computations that follow every point (the routes without push-down below: flight GeoJSON, bundles,
+// exports, animation, flow and congestion maps, the density legend and tiles with a filter, the summary's
+// data-quality block); the last kKeptCopies fetched are kept in memory, so the server holds at most that
+// many copies beside the ones requests in flight still use.
 //
 // Push-down: the scans over points run on the shards, as SQL over the Distributed tables, and the server
 // only merges their partial answers with compute/'s own finishing code, so the bytes equal the embedded
@@ -53,18 +63,22 @@
 //  matched on the server against the flight table (a list of flight ids in WHERE), since callsign_matches()'
 //  patterns are not LIKE's. A dataset whose flights do not cover its points one to one (never made by the
 //  ingest) falls back to the computation on the server's copy.
-//  - density_tile(): the count tile of the whole dataset (no query filter, value=count, no kernel, every
-//    segment drawn, no flight across 180°): one query over the segment table gives each pixel's count,
-//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them
-//    (the SQL of tests/bench/bench_util.hpp peer_line_tile_sql, checked there pixel for pixel); the first
-//    pixel of a segment that continues its flight's run is left out. The server shades it with the level's
-//    shared span (computed once per zoom on the server's copy and cached by the renderer) through
-//    finish_aggregate() and shade_tile(). Every other tile falls back to the server's copy: a query filter
-//    decides per sample which segments are drawn and where runs break, which needs each segment's
-//    neighbours (no window functions in 18.16); altitude/speed values and kernels are not expressed; a
-//    segment across 180° is drawn with its wrapped copies.
-// Not pushed down: the legend, bundles, flight GeoJSON, exports, animation, congestion and the other routes:
-// they read the copy get() fetched.
+//  - density_tile(): count tiles that draw every segment (no gap limit) of a dataset without a flight
+//    across 180°, unfiltered or under a time window, icao24/callsign filters and a kernel: one query over
+//    the segment table gives each pixel's count on the work canvas (the tile plus the kernel's margin),
+//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them (the
+//    SQL of clickhouse_tile_sql.hpp, which the tile benchmark checks pixel for pixel against
+//    density_lines_ref); the first pixel of a segment that continues a drawn run is left out. A flight
+//    filter keeps or drops a flight whole (flight IN (...)); under a window [t0, t1) a segment is drawn
+//    when both its points lie in it, and continues a run when the point before it does too (its stored
+//    prev_t), exactly the run breaks density_lines() makes, since a flight's samples are in time order.
+//    The server smooths and shades through finish_aggregate() and shade_tile() with the level's shared
+//    span (computed once per zoom on the fetched copy and cached by the renderer). Drawn from the copy:
+//    altitude/speed values, and altitude, bbox and on_ground filters (whether a segment is drawn and where
+//    a run breaks depend on both samples' values and the previous one's, which the segment rows do not
+//    hold; no window functions in 18.16), and segments across 180° (wrapped copies).
+// Not pushed down: the legend (the span), bundles, flight GeoJSON, exports, animation, picking, congestion
+// and flow maps: they follow every sample of the flights they draw and read the copy get() fetches.
 #include <atomic>
 #include <functional>
 #include <map>
@@ -89,6 +103,8 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
 
   std::vector<std::shared_ptr<const Dataset>> list() const override;
   std::shared_ptr<const Dataset> get(const std::string& id) const override;
+  /// The catalogue row and the flight table (no point): trails null, outline set. Cached per dataset.
+  std::shared_ptr<const Dataset> describe(const std::string& id) const override;
   bool contains(const std::string& id) const override;
   /// Inserts the dataset's rows in batches of kBatchRows, reporting progress per batch, then its catalogue
   /// row. On any failure the partitions written so far are dropped (or at the next start) and the dataset
@@ -106,6 +122,8 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
                            const density::TileRequest& request) const override;
 
   static constexpr std::size_t kBatchRows = 1u << 20;
+  /// Fetched copies (get()) kept in memory, most recently used first; older ones are released.
+  static constexpr std::size_t kKeptCopies = 2;
   /// How long an insert waits for every replica of its shard (insert_quorum_timeout) before it fails.
   static constexpr int kQuorumTimeoutMs = 30000;
   /// The Morton code of (x, y): bit i of x at bit 2i, bit i of y at bit 2i+1.
@@ -114,6 +132,8 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   ClickHouseClient& client() { return client_; }
   /// Pushed-down queries answered so far (read() calls that returned).
   std::uint64_t pushed_down_reads() const { return reads_; }
+  /// Datasets fetched whole (get() calls that read the point table) so far.
+  std::uint64_t fetched_copies() const { return fetches_; }
   /// Told the SQL and wall time (ms) of every pushed-down query that returned (the benchmark's view of
   /// what ClickHouse did for an answer). Set before the store is shared between threads.
   void on_read(std::function<void(const std::string& sql, double ms)> observer) {
@@ -126,8 +146,18 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   struct Meta {
     std::string name, format, created, owner;
     nlohmann::json ingest;
+    std::uint64_t points = 0;
   };
   std::shared_ptr<const Dataset> load(const std::string& id, const Meta& meta) const;
+  /// The flight table of `id` (with its extents when the table has them), ordered by index. Throws
+  /// Error(internal) when it is inconsistent.
+  std::vector<Flight> load_flights(const std::string& id) const;
+  /// The full copy of `full` without its points: the described view.
+  static std::shared_ptr<const Dataset> outline_of(const Dataset& full);
+  /// `ds` with its points: itself (not owned) when it has them, else get(ds.id).
+  std::shared_ptr<const Dataset> whole(const Dataset& ds) const {
+    return ds.trails ? std::shared_ptr<const Dataset>(std::shared_ptr<const Dataset>{}, &ds) : get(ds.id);
+  }
   /// The SQL condition on the points table of `ds` for the point filter and flight filters of `q`; ""
   /// when no point can match (a flight filter no flight passes).
   std::string point_where(const Dataset& ds, const Query& q) const;
@@ -156,7 +186,11 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   int quorum_ = 1;  ///< replicas per shard (the fewest of any shard)
   mutable std::mutex mu_;
   std::map<std::string, Meta> catalogue_;  ///< the visible datasets
-  mutable std::map<std::string, std::shared_ptr<const Dataset>> loaded_;
+  bool flight_extents_ = true;             ///< flights_local has the extent columns
+  bool segment_prev_t_ = true;             ///< segments_local has prev_t
+  mutable std::map<std::string, std::shared_ptr<const Dataset>> outlines_;
+  mutable std::vector<std::shared_ptr<const Dataset>> loaded_;  ///< kKeptCopies at most, newest first
+  mutable std::atomic<std::uint64_t> fetches_{0};
   mutable std::mutex load_mu_;  ///< one dataset fetched at a time
   mutable std::atomic<std::uint64_t> reads_{0};
   std::function<void(const std::string&, double)> observer_;

@@ -29,7 +29,7 @@ std::string dataset_id_from_name(const std::string& name) {
 }
 
 nlohmann::json Dataset::to_json() const {
-  const TrailSet& t = *trails;
+  const TrailSet& t = shape();
   double alt_max = 0;
   for (const Flight& f : t.flights())
     if (f.alt_max == f.alt_max && f.alt_max > alt_max) alt_max = f.alt_max;
@@ -38,7 +38,7 @@ nlohmann::json Dataset::to_json() const {
           {"format", format},
           {"created", created},
           {"flights", t.num_flights()},
-          {"points", t.num_points()},
+          {"points", num_points()},
           {"t_min", t.t_min()},
           {"t_max", t.t_max()},
           {"bbox", {t.lon_min(), t.lat_min(), t.lon_max(), t.lat_max()}},
