@@ -98,7 +98,9 @@ one() {
     limit+=(-max_total_time="$seconds")
   fi
   mkdir -p "$corpus" "$art"
-  before=$(find "$art" -maxdepth 1 -type f | wc -l)
+  # Inputs libFuzzer wrote for a failure (crash-, leak-, timeout-, oom-); its slow-unit- files (an input over
+  # 10 s of wall time, a report, not a failure: at nice 19 a starved fuzzer writes them) are not counted.
+  before=$(find "$art" -maxdepth 1 -type f ! -name 'slow-unit-*' | wc -l)
   dirs=("$corpus")
   [ -n "$long" ] && [ -d "$build/fuzz-corpus/$h" ] && dirs+=("$build/fuzz-corpus/$h")
   for d in "$here/seeds/$h" "$here/regressions/$h"; do [ -d "$d" ] && dirs+=("$d"); done
@@ -120,7 +122,7 @@ one() {
   cov=$(grep -oE ' cov: [0-9]+' "$log" | tail -1 | grep -oE '[0-9]+')
   ft=$(grep -oE ' ft: [0-9]+' "$log" | tail -1 | grep -oE '[0-9]+')
   corp=$(grep -oE ' corp: [0-9]+' "$log" | tail -1 | grep -oE '[0-9]+')
-  crashes=$(( $(find "$art" -maxdepth 1 -type f | wc -l) - before ))
+  crashes=$(( $(find "$art" -maxdepth 1 -type f ! -name 'slow-unit-*' | wc -l) - before ))
   local outcome=ok
   [ $rc -ne 0 ] && outcome="failed (exit $rc; see $log and $art)"
   if [ -n "$long" ]; then
