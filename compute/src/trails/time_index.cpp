@@ -52,6 +52,10 @@ TimeIndex::TimeIndex(const PointColumns& p, const std::vector<Flight>& flights) 
       *this = TimeIndex();
       return;  // not in start order (or a hand-made set with odd times): reads scan
     }
+    if (f.begin > f.end || f.end > p.size()) {
+      *this = TimeIndex();
+      return;  // flights without their points (the ClickHouse store's outline of a dataset): nothing to index
+    }
     t_min_[i] = f.t_min;
     run = std::max(run, f.t_max);
     run_max_[i] = run;

@@ -240,6 +240,11 @@ TEST(TimeIndex, UnorderedFlightsHaveNone) {
   EXPECT_TRUE(ordered.time_index().valid());
   expect_same(summarize(ordered, q, {}), summarize_scan(ordered, q, {}), "ordered");
   EXPECT_EQ(summarize(ordered, q, {}).points, 2u);
+  // The flights without their points (the ClickHouse store's outline of a dataset): no index, and
+  // nothing read past the empty columns.
+  const TrailSet outline(PointColumns{}, ordered.flights());
+  EXPECT_FALSE(outline.time_index().valid());
+  EXPECT_EQ(outline.flights().size(), 2u);
 }
 
 }  // namespace

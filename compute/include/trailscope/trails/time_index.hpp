@@ -58,7 +58,9 @@ class TimeIndex {
 
   TimeIndex() = default;
   /// Builds the index in parallel. An index is `valid()` only when the flights are in start order
-  /// (t_min non-decreasing) and every time is finite; otherwise reads fall back to plain scans.
+  /// (t_min non-decreasing), every time is finite and every flight's point range lies within `points` (a
+  /// set of flights without their points, as the ClickHouse store's outline of a dataset, is not indexed);
+  /// otherwise reads fall back to plain scans.
   TimeIndex(const PointColumns& points, const std::vector<Flight>& flights);
 
   bool valid() const { return valid_; }
