@@ -116,7 +116,11 @@ Summary finish_counts(const SummaryLayout& l, const SummaryOptions& opts, Summar
   s.speed.count = total.speed_n;
   if (total.speed_n) {
     s.speed.min = total.speed_min, s.speed.max = total.speed_max;
-    s.speed.mean = total.speed_sum / static_cast<double>(total.speed_n);
+    // Rounded to a micrometre per second (kSpeedMeanPerMs steps of 1 m/s): the sum's order moves only its
+    // last bits (summary.hpp). Dividing the whole number of steps gives the double nearest the decimal.
+    constexpr double kSpeedMeanPerMs = 1e6;
+    s.speed.mean =
+        std::round(total.speed_sum / static_cast<double>(total.speed_n) * kSpeedMeanPerMs) / kSpeedMeanPerMs;
     s.speed.p50 = std::clamp(percentile(total.speed, total.speed_n, 0.50), s.speed.min, s.speed.max);
     s.speed.p95 = std::clamp(percentile(total.speed, total.speed_n, 0.95), s.speed.min, s.speed.max);
   }

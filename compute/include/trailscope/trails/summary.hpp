@@ -39,9 +39,12 @@ struct Summary {
     std::vector<std::uint64_t> counts;  ///< matching points with a known altitude per bin
   } altitude_histogram;
   struct SpeedStats {
-    std::uint64_t count = 0;            ///< matching points with a known speed
-    double min = 0, max = 0, mean = 0;  ///< m/s, exact
-    double p50 = 0, p95 = 0;            ///< m/s, from a 0.25 m/s histogram (so within 0.25 m/s of exact)
+    std::uint64_t count = 0;  ///< matching points with a known speed
+    /// m/s; min and max exact; mean rounded to 1e-6 m/s (summary.cpp), since the order its sum is
+    /// taken in (threads, time buckets, ClickHouse shards) moves its last bits, and the answer must not
+    /// depend on which backend or path computed it
+    double min = 0, max = 0, mean = 0;
+    double p50 = 0, p95 = 0;  ///< m/s, from a 0.25 m/s histogram (so within 0.25 m/s of exact)
   } speed;
   struct CallsignCount {
     std::string callsign;
@@ -72,8 +75,7 @@ struct Summary {
 /// else the data's time extent. Throws invalid_argument for options out of range ("bins", "top").
 /// A query whose only filter is its time window is answered from the set's time index
 /// (time_index.hpp): the flights and points of the window only, and its whole hours from counts made at
-/// construction; the answer is summarize_scan()'s in every field (the speed mean up to the order of its
-/// floating-point sum, which the scan's parallel reduction does not fix either).
+/// construction; the answer is summarize_scan()'s in every field.
 Summary summarize(const TrailSet& set, const Query& q, const SummaryOptions& opts = {});
 /// The plain computation: one parallel pass over every flight the query may match, then its points.
 Summary summarize_scan(const TrailSet& set, const Query& q, const SummaryOptions& opts = {});
