@@ -385,7 +385,10 @@ net::awaitable<std::optional<Response>> run_on_pool(Server& S, beast::tcp_stream
   call->watching = false;
   call->deadline.cancel();
   socket->cancel(ec);  // ends the watch
-  if (call->res) co_return std::move(call->res);
+  // Once the deadline has fired it decides the answer: the handler's own answer to the cancellation it
+  // caused (409 "operation cancelled") can be posted before this coroutine resumes (seen under load),
+  // and the client is owed the 503 that says why.
+  if (call->res && !call->timed_out) co_return std::move(call->res);
   S.pool.withdraw(*ticket);
   if (call->gone) co_return std::nullopt;
   co_return retry_later(

@@ -241,7 +241,14 @@ void ClickHouseStore::remove_leftovers() {
   for (const auto& id : orphans) {
     std::cerr << "store: removing the rows of dataset '" << id
               << "', not in the catalogue (an interrupted ingest or delete)\n";
-    drop_partitions(id);
+    // Best effort, as in remove(): rows outside the catalogue are never read, and put() drops them before
+    // it writes that id again. A replica that is down or has just restarted (its DDL queue not yet
+    // active) must not keep the store from opening.
+    try {
+      drop_partitions(id);
+    } catch (const std::exception& ex) {
+      std::cerr << "store: the rows of '" << id << "' stay until the next start: " << ex.what() << "\n";
+    }
   }
 }
 

@@ -95,9 +95,10 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
  public:
   /// Connects to the cluster of `url`, creates the database and tables when absent (ON CLUSTER), reads the
   /// catalogue and, with `remove_leftovers` (`serve`, the one owner of the database; not the CLI verbs,
-  /// which may run beside a server mid-ingest), drops the leftover partitions. Throws Error(unavailable)
-  /// when no node answers, ClickHouseError when the cluster refuses (an unknown cluster name, ZooKeeper
-  /// unreachable, ...), invalid_argument("--store") when the nodes know no such cluster.
+  /// which may run beside a server mid-ingest), drops the leftover partitions (best effort: a drop that
+  /// fails now, a replica being down, is logged, and its rows stay unread until the next start). Throws
+  /// Error(unavailable) when no node answers, ClickHouseError when the cluster refuses (an unknown cluster
+  /// name, ZooKeeper unreachable, ...), invalid_argument("--store") when the nodes know no such cluster.
   explicit ClickHouseStore(const ClickHouseUrl& url, bool remove_leftovers = false,
                            ClickHouseClient::Timeouts timeouts = {});
 
