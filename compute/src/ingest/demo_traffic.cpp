@@ -29,6 +29,23 @@
 namespace trailscope::ingest {
 namespace {
 
+/// The flights' point ranges laid end to end: flight k (named by `name(k, flight)`, which returns its point
+/// count) takes the next points. Throws payload_too_large(param) past 2^32-1 points in all (a TrailSet's
+/// ranges are 32-bit). `total` is the points in all.
+template <typename Name>
+std::vector<Flight> lay_out_flights(std::size_t n, const char* param, std::uint64_t& total, Name name) {
+  std::vector<Flight> flights(n);
+  total = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    flights[k].begin = static_cast<std::uint32_t>(total);
+    total += name(k, flights[k]);
+    if (total > std::numeric_limits<std::uint32_t>::max())
+      throw Error(Error::Kind::payload_too_large, param, "a dataset holds at most 2^32-1 points");
+    flights[k].end = static_cast<std::uint32_t>(total);
+  }
+  return flights;
+}
+
 using detail::kFeet;
 using detail::kFeetPerMinute;
 using detail::kKnot;
@@ -485,17 +502,13 @@ TrailSet generate_fleet(const DemoOptions& opts, const FleetInputs& in, Progress
     if (const int c = std::strcmp(x.icao24, y.icao24)) return c < 0;
     return std::strcmp(x.callsign, y.callsign) < 0;
   });
-  std::vector<Flight> flights(legs.size());
   std::uint64_t total = 0;
-  for (std::size_t k = 0; k < legs.size(); ++k) {
-    flights[k].icao24 = legs[k].icao24;
-    flights[k].callsign = legs[k].callsign;
-    flights[k].begin = static_cast<std::uint32_t>(total);
-    total += legs[k].count;
-    if (total > std::numeric_limits<std::uint32_t>::max())
-      throw Error(Error::Kind::payload_too_large, "aircraft", "a dataset holds at most 2^32-1 points");
-    flights[k].end = static_cast<std::uint32_t>(total);
-  }
+  std::vector<Flight> flights =
+      lay_out_flights(legs.size(), "aircraft", total, [&](std::size_t k, Flight& f) -> std::uint64_t {
+        f.icao24 = legs[k].icao24;
+        f.callsign = legs[k].callsign;
+        return legs[k].count;
+      });
 
   // Pass 2: each leg again from its header, written straight into the columns (the store's own memory:
   // no other copy of the points is ever made).
@@ -677,18 +690,14 @@ TrailSet generate_demo_traffic(const DemoOptions& opts, ProgressFn progress) {
     if (const int c = std::strcmp(x.icao24, y.icao24)) return c < 0;
     return std::strcmp(x.callsign, y.callsign) < 0;
   });
-  std::vector<Flight> flights(n);
   std::uint64_t total = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Header& h = headers[order[k]];
-    flights[k].icao24 = h.icao24;
-    flights[k].callsign = h.callsign;
-    flights[k].begin = static_cast<std::uint32_t>(total);
-    total += h.count;
-    if (total > std::numeric_limits<std::uint32_t>::max())
-      throw Error(Error::Kind::payload_too_large, "flights", "a dataset holds at most 2^32-1 points");
-    flights[k].end = static_cast<std::uint32_t>(total);
-  }
+  std::vector<Flight> flights =
+      lay_out_flights(n, "flights", total, [&](std::size_t k, Flight& f) -> std::uint64_t {
+        const Header& h = headers[order[k]];
+        f.icao24 = h.icao24;
+        f.callsign = h.callsign;
+        return h.count;
+      });
 
   // Pass 2: the same flights again, now writing their samples straight into the columns. Building the
   // TrailSet directly (rather than through TrailSetBuilder) avoids a serial hash-map insert and a copy of
