@@ -707,43 +707,33 @@ TrailSet generate_demo_traffic(const DemoOptions& opts, ProgressFn progress) {
   cols.resize(total);
   done = 0;
   for (std::size_t first = 0; first < n; first += kChunk) {
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(first, std::min(n, first + kChunk), 16), [&](const auto& r) {
-          DemoFlight f;
-          for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            Flight& fl = flights[k];
-            make_flight(order[k], f);
-            PathInterpolator path(f.line, 0.0);
-            std::uint32_t i = fl.begin;
-            run(f, [&](double t, const FlightModel& m) {
-              double lat, lon, azi;
-              path.at(m.s(), lat, lon, azi);
-              cols.t[i] = t;
-              cols.lat[i] = static_cast<float>(lat);
-              cols.lon[i] = static_cast<float>(lon);
-              if (cols.lon[i] >= 180.0f) cols.lon[i] = -180.0f;
-              cols.alt[i] = static_cast<float>(m.altitude());
-              cols.speed[i] = static_cast<float>(m.speed());
-              cols.track[i] = static_cast<float>(azi);
-              if (cols.track[i] >= 360.0f) cols.track[i] = 0.0f;
-              cols.vrate[i] = static_cast<float>(m.vrate());
-              cols.on_ground[i] = m.on_ground() ? 1 : 0;
-              ++i;
-            });
-            // Extents exactly as TrailSetBuilder computes them.
-            fl.t_min = cols.t[fl.begin], fl.t_max = cols.t[fl.end - 1];
-            fl.lat_min = fl.lon_min = fl.alt_min = std::numeric_limits<float>::infinity();
-            fl.lat_max = fl.lon_max = fl.alt_max = -std::numeric_limits<float>::infinity();
-            for (std::uint32_t j = fl.begin; j < fl.end; ++j) {
-              fl.lat_min = std::min(fl.lat_min, cols.lat[j]), fl.lat_max = std::max(fl.lat_max, cols.lat[j]);
-              fl.lon_min = std::min(fl.lon_min, cols.lon[j]), fl.lon_max = std::max(fl.lon_max, cols.lon[j]);
-              fl.alt_min = std::min(fl.alt_min, cols.alt[j]), fl.alt_max = std::max(fl.alt_max, cols.alt[j]);
-              if (j > fl.begin && std::fabs(cols.lon[j] - cols.lon[j - 1]) > 180.0f)
-                fl.crosses_antimeridian = true;
-            }
-          }
-          done += r.size();
-        });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(n, first + kChunk), 16),
+                      [&](const auto& r) {
+                        DemoFlight f;
+                        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                          Flight& fl = flights[k];
+                          make_flight(order[k], f);
+                          PathInterpolator path(f.line, 0.0);
+                          std::uint32_t i = fl.begin;
+                          run(f, [&](double t, const FlightModel& m) {
+                            double lat, lon, azi;
+                            path.at(m.s(), lat, lon, azi);
+                            cols.t[i] = t;
+                            cols.lat[i] = static_cast<float>(lat);
+                            cols.lon[i] = static_cast<float>(lon);
+                            if (cols.lon[i] >= 180.0f) cols.lon[i] = -180.0f;
+                            cols.alt[i] = static_cast<float>(m.altitude());
+                            cols.speed[i] = static_cast<float>(m.speed());
+                            cols.track[i] = static_cast<float>(azi);
+                            if (cols.track[i] >= 360.0f) cols.track[i] = 0.0f;
+                            cols.vrate[i] = static_cast<float>(m.vrate());
+                            cols.on_ground[i] = m.on_ground() ? 1 : 0;
+                            ++i;
+                          });
+                          flight_extents(fl, cols);
+                        }
+                        done += r.size();
+                      });
     report(0.25, 0.75);
   }
   if (progress) progress(0.0, "assemble");
