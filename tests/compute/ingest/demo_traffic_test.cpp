@@ -46,6 +46,25 @@ bool same_columns(const TrailSet& a, const TrailSet& b) {
          same_bytes(p.vrate, q.vrate) && same_bytes(p.on_ground, q.on_ground);
 }
 
+/// `set`'s samples fed one by one through TrailSetBuilder, the path every ingested file takes; the
+/// generator writes its columns directly, and must give what the builder would (no duplicate, no split).
+TrailSet through_the_builder(const TrailSet& set) {
+  TrailSetBuilder b;
+  const PointColumns& p = set.points();
+  for (const Flight& f : set.flights())
+    for (std::uint32_t i = f.begin; i < f.end; ++i) {
+      Sample s;
+      s.t = p.t[i], s.lat = p.lat[i], s.lon = p.lon[i], s.alt = p.alt[i];
+      s.speed = p.speed[i], s.track = p.track[i], s.vrate = p.vrate[i], s.on_ground = p.on_ground[i] != 0;
+      b.add(f.icao24, f.callsign, s);
+    }
+  TrailSetBuilder::Stats stats;
+  TrailSet built = b.build(&stats);
+  EXPECT_EQ(stats.duplicates, 0u);
+  EXPECT_EQ(stats.splits, 0u);
+  return built;
+}
+
 TEST(DemoTraffic, SameSeedSameBytesOtherSeedDiffers) {
   REQUIRE_VEGA();
   const TrailSet a = generate_demo_traffic(options(500));
@@ -64,19 +83,7 @@ TEST(DemoTraffic, SameSeedSameBytesOtherSeedDiffers) {
 TEST(DemoTraffic, SameAsThroughTheBuilder) {
   REQUIRE_VEGA();
   const TrailSet direct = generate_demo_traffic(options(400, 7));
-  TrailSetBuilder b;
-  for (const Flight& f : direct.flights())
-    for (std::uint32_t i = f.begin; i < f.end; ++i) {
-      const PointColumns& p = direct.points();
-      Sample s;
-      s.t = p.t[i], s.lat = p.lat[i], s.lon = p.lon[i], s.alt = p.alt[i];
-      s.speed = p.speed[i], s.track = p.track[i], s.vrate = p.vrate[i], s.on_ground = p.on_ground[i] != 0;
-      b.add(f.icao24, f.callsign, s);
-    }
-  TrailSetBuilder::Stats stats;
-  const TrailSet built = b.build(&stats);
-  EXPECT_EQ(stats.duplicates, 0u);
-  EXPECT_EQ(stats.splits, 0u);
+  const TrailSet built = through_the_builder(direct);
   test::expect_same_trails(direct, built);
   for (std::size_t k = 0; k < direct.num_flights(); ++k) {
     const Flight &x = direct.flights()[k], &y = built.flights()[k];
@@ -232,20 +239,7 @@ TEST(DemoFleet, SameSeedSameBytesAndSameAsThroughTheBuilder) {
   const TrailSet c = generate_demo_traffic(fleet_options(120, 2, 43));
   EXPECT_TRUE(same_columns(a, b));
   EXPECT_FALSE(same_columns(a, c));
-  TrailSetBuilder builder;
-  const PointColumns& p = a.points();
-  for (const Flight& f : a.flights())
-    for (std::uint32_t i = f.begin; i < f.end; ++i) {
-      Sample s;
-      s.t = p.t[i], s.lat = p.lat[i], s.lon = p.lon[i], s.alt = p.alt[i];
-      s.speed = p.speed[i], s.track = p.track[i], s.vrate = p.vrate[i], s.on_ground = p.on_ground[i] != 0;
-      builder.add(f.icao24, f.callsign, s);
-    }
-  TrailSetBuilder::Stats stats;
-  const TrailSet built = builder.build(&stats);
-  EXPECT_EQ(stats.duplicates, 0u);
-  EXPECT_EQ(stats.splits, 0u);
-  test::expect_same_trails(a, built);
+  test::expect_same_trails(a, through_the_builder(a));
 }
 
 TEST(DemoFleet, AircraftFlyLegAfterLegInsideTheDays) {
