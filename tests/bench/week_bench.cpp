@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "bench_util.hpp"
+#include "trailscope/density/aggregate.hpp"
 #include "trailscope/density/renderer.hpp"
 #include "trailscope/geo/web_mercator.hpp"
 #include "trailscope/trails/summary.hpp"
@@ -153,6 +154,24 @@ int main(int argc, char** argv) {
           " ms, load " + std::to_string(load) + ")");
       return s;
     };
+    // What a 1-hour window reads: the flights of the time index's range (flight_range) and, of them, the
+    // flights with a point in the window.
+    {
+      std::vector<double> ranged, inside;
+      for (int i = 0; i < reps; ++i) {
+        const ts::Query q = hour(i);
+        const auto [fb, fe] = week.time_index().flight_range(*q.t0, *q.t1);
+        std::size_t n = 0;
+        for (std::size_t f = fb; f < fe; ++f) n += q.may_match(week.flights()[f]);
+        ranged.push_back(static_cast<double>(fe - fb));
+        inside.push_back(static_cast<double>(n));
+      }
+      emit({{"bench", "week_window"},
+            {"range_flights_p50", Stats::of(ranged).p50},
+            {"window_flights_p50", Stats::of(inside).p50}});
+      log("1-hour window: " + std::to_string(Stats::of(ranged).p50) + " flights in the index range, " +
+          std::to_string(Stats::of(inside).p50) + " meet the window");
+    }
     // The indexed path must answer what the scan answers (points and flights of a few windows).
     for (int i = 0; i < 3; ++i) {
       const ts::Summary x = ts::summarize(week, hour(i)), y = ts::summarize_scan(week, hour(i));
@@ -174,6 +193,22 @@ int main(int argc, char** argv) {
     timed("tile_1h_cold", "indexed", reps, [&](int i) {
       ts::density::DensityRenderer r;
       return r.render_tile(week, "week", hour(i), req).png.size();
+    });
+    // The cold tile's two parts: the shared colour span (the coarse aggregate of the whole window,
+    // renderer.hpp) and the tile's own aggregate.
+    timed("tile_1h_span", "indexed", reps, [&](int i) {
+      return static_cast<std::uint64_t>(
+          ts::density::estimate_span(week, hour(i), req.value, req.tile.z, req.size, req.kernel_radius,
+                                     req.max_gap_seconds, req.backend)
+              .samples);
+    });
+    timed("tile_1h_aggregate", "indexed", reps, [&](int i) {
+      ts::density::AggregateOptions ao;
+      ao.backend = req.backend;
+      ao.max_gap_seconds = req.max_gap_seconds;
+      return static_cast<std::uint64_t>(
+          ts::density::aggregate(week, hour(i), ts::density::Canvas::for_tile(req.tile, req.size), ao)
+              .max_count);
     });
     ts::TrailSet unindexed;  // the same points and flights with no index: flights in reverse order
     {

@@ -16,11 +16,11 @@ AggregateResult aggregate(const TrailSet& trails, const Query& query, const Canv
         "kernel_radius", "kernel radius must be in 0.." + std::to_string(limits::kMaxKernelRadiusPx) + " px");
   const int grow = static_cast<int>(std::ceil(r));
   const Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
-  const LineSegments segments =
-      prepare_line_segments(trails, query, work, options.value, options.max_gap_seconds);
-  const Aggregate agg = density_lines(segments, options.backend);
+  std::size_t segments = 0;
+  const Aggregate agg = aggregate_lines(trails, query, work, options.value, options.max_gap_seconds,
+                                        options.backend, &segments);
   AggregateResult out = finish_aggregate(agg, work, options);
-  out.segments = segments.size();
+  out.segments = segments;
   return out;
 }
 

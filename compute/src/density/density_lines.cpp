@@ -19,6 +19,7 @@
 #include "trailscope/trails/time_index.hpp"
 #include "trailscope/density/density_lines.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -28,6 +29,7 @@
 
 #include "ocl/dispatch.hpp"
 #include "density/density_lines_ocl.hpp"
+#include "density/density_lines_walk.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/core/limits.hpp"
 #include "trailscope/geo/web_mercator.hpp"
@@ -164,6 +166,54 @@ double segment_value(float a, float b) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+// The canvas's rows as latitudes, so that a flight's (float) latitude extents are tested against them
+// without projecting two latitudes per flight: lat_to_merc_y's tan and asinh were a seventh of a cold tile
+// over a dense hour. The answer is the projection's: a flight whose extents lie within kBandDeg of a
+// boundary (several y units anywhere; the projection's rounding is about one) is decided by projecting.
+class RowTest {
+ public:
+  /// Rows [y_top, y_bottom] in units (either may lie outside the world).
+  RowTest(std::int64_t y_top, std::int64_t y_bottom) : y_top_(y_top), y_bottom_(y_bottom) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    // y_top <= 0: no latitude projects north of it; beyond the world's last row every latitude does.
+    north_ = y_top <= 0 ? kInf : y_top > kLastRow ? -kInf : geo::merc_y_to_lat(static_cast<double>(y_top));
+    south_ = y_bottom >= kLastRow ? -kInf
+             : y_bottom < 0       ? kInf
+                                  : geo::merc_y_to_lat(static_cast<double>(y_bottom));
+  }
+  /// No latitude of [lat_min, lat_max] projects into the rows: lat_to_merc_y(lat_min) < y_top or
+  /// lat_to_merc_y(lat_max) > y_bottom.
+  bool misses(float lat_min, float lat_max) const {
+    const double lo = lat_min, hi = lat_max;
+    if (lo < north_ - kBandDeg && hi > south_ + kBandDeg) return false;
+    if (lo > north_ + kBandDeg || hi < south_ - kBandDeg) return true;
+    return geo::lat_to_merc_y(lo) < y_top_ || geo::lat_to_merc_y(hi) > y_bottom_;  // also NaN extents
+  }
+
+ private:
+  static constexpr double kBandDeg = 1e-6;  // a y unit is 8.4e-8° at the equator, less towards the poles
+  static constexpr std::int64_t kLastRow = 0xFFFFFFFF;
+  std::int64_t y_top_, y_bottom_;
+  double north_, south_;  // latitudes of y_top and y_bottom (±infinity: every or no latitude beyond)
+};
+
+// std::lower_bound over a flight's time-sorted points with a conditional move instead of a branch per
+// step: the branch is unpredictable, and these two searches per flight were a third of preparing a tile
+// over a dense hour. (What remains is waiting for memory: starting from the guess an even sampling rate
+// gives, which touches fewer cache lines, measured no faster.)
+std::uint32_t lower_bound_time(const std::vector<double>& t, std::uint32_t begin, std::uint32_t end,
+                               double x) {
+  if (begin == end) return begin;
+  const double* base = t.data() + begin;
+  std::uint32_t n = end - begin;
+  while (n > 1) {  // the answer lies in [base, base + n]
+    const std::uint32_t half = n / 2;
+    base += base[half] < x ? half : 0;
+    n -= half;
+  }
+  return static_cast<std::uint32_t>(base - t.data()) + (*base < x ? 1 : 0);
+}
+
 }  // namespace
 
 DensityValue parse_density_value(std::string_view text, const std::string& param) {
@@ -221,115 +271,160 @@ void append_segment(LineSegments& out, const Canvas& canvas, MercPoint a, MercPo
   }
 }
 
-LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, const Canvas& canvas,
-                                   DensityValue value, double max_gap_seconds) {
-  if (!(max_gap_seconds > 0))
-    throw invalid_argument("max_gap", "the largest time gap of a drawn segment must be > 0 s");
-  const bool with_value = value != DensityValue::count;
-  const auto& flights = trails.flights();
-  const PointColumns& pts = trails.points();
-  const auto& mx = trails.merc_x();
-  const auto& my = trails.merc_y();
-  const float* values = value == DensityValue::altitude ? pts.alt.data()
-                        : value == DensityValue::speed  ? pts.speed.data()
-                                                        : nullptr;
-  const std::int64_t p = canvas.pixel_units();
-  const std::int64_t cx0 = canvas.origin_x() - p, cx1 = canvas.end_x() + p;  // one pixel of slack for the
-  const std::int64_t cy0 = canvas.origin_y() - p, cy1 = canvas.end_y() + p;  // float extents' rounding
+namespace {
 
+// The segments of a TrailSet under a query for one canvas, prepared a chunk of flights at a time (fixed
+// chunks, so that the segment order does not depend on the thread count): prepare_line_segments()
+// concatenates the chunks, aggregate_lines() walks each chunk as soon as it is prepared.
+class SegmentPreparer {
+ public:
+  static constexpr std::size_t kChunk = 256;  // flights
+
+  SegmentPreparer(const TrailSet& trails, const Query& query, const Canvas& canvas, DensityValue value,
+                  double max_gap_seconds)
+      : trails_(trails),
+        query_(query),
+        canvas_(canvas),
+        with_value_(value != DensityValue::count),
+        max_gap_(max_gap_seconds),
+        flights_(trails.flights()),
+        pts_(trails.points()),
+        mx_(trails.merc_x()),
+        my_(trails.merc_y()),
+        values_(value == DensityValue::altitude ? pts_.alt.data()
+                : value == DensityValue::speed  ? pts_.speed.data()
+                                                : nullptr),
+        p_(canvas.pixel_units()),
+        // one pixel of slack for the float extents' rounding
+        cx0_(canvas.origin_x() - p_),
+        cx1_(canvas.end_x() + p_),
+        rows_(canvas.origin_y() - p_, canvas.end_y() + p_),
+        matches_(query),
+        every_point_(matches_.every_point()),
+        // When the canvas lies within the world in x, a segment that does not cross 180° has no wrapped
+        // copy on it, and the common case goes straight to prepare_one.
+        canvas_in_world_(canvas.origin_x() >= 0 && canvas.end_x() <= kWorld),
+        grid_(p_),
+        ox_(canvas.origin_x()),
+        oy_(canvas.origin_y()),
+        last_col_(canvas.width() - 1),
+        last_row_(canvas.height() - 1) {
+    if (!(max_gap_seconds > 0))
+      throw invalid_argument("max_gap", "the largest time gap of a drawn segment must be > 0 s");
+    // A time window with the set's time index (trails/time_index.hpp): only the flights that may meet
+    // it, and of each only its points from the first inside it (the points before fail the window, so no
+    // segment before it is drawn and the run starts there, exactly as a walk from the flight's start
+    // gives).
+    const TimeIndex& ix = trails.time_index();
+    windowed_ = ix.valid() && (query.t0 || query.t1);
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    t0_ = query.t0.value_or(-kInf), t1_ = query.t1.value_or(kInf);
+    const auto range =
+        windowed_ ? ix.flight_range(t0_, t1_) : std::pair<std::size_t, std::size_t>{0, flights_.size()};
+    fb_ = range.first, fe_ = range.second;
+  }
+
+  std::size_t chunks() const { return (fe_ - fb_ + kChunk - 1) / kChunk; }
+  /// Large enough to prepare in parallel.
+  bool parallel() const { return chunks() > 1 && trails_.num_points() >= 20000; }
+  LineSegments empty() const { return LineSegments::for_canvas(canvas_, with_value_); }
+
+  /// Appends the segments of chunk `c`'s flights to `out`.
+  void prepare_chunk(std::size_t c, LineSegments& out) const {
+    const std::size_t end = std::min(fe_, fb_ + (c + 1) * kChunk);
+    for (std::size_t f = fb_ + c * kChunk; f < end; ++f) draw_flight(flights_[f], out);
+  }
+
+ private:
   // The flight's extents as a zone map: a flight whose box (or a copy of it one world east or west)
   // misses the canvas has no segment on it. Extents across 180° say nothing about x.
-  auto may_meet = [&](const Flight& f) {
-    const std::int64_t y0 = geo::lat_to_merc_y(f.lat_max), y1 = geo::lat_to_merc_y(f.lat_min);
-    if (y1 < cy0 || y0 > cy1) return false;
+  bool may_meet(const Flight& f) const {
+    if (rows_.misses(f.lat_min, f.lat_max)) return false;
     if (f.crosses_antimeridian || f.lon_min > f.lon_max) return true;
     const std::int64_t x0 = geo::lon_to_merc_x(f.lon_min), x1 = geo::lon_to_merc_x(f.lon_max);
     for (std::int64_t k = -1; k <= 1; ++k)
-      if (x1 + k * kWorld >= cx0 && x0 + k * kWorld <= cx1) return true;
+      if (x1 + k * kWorld >= cx0_ && x0 + k * kWorld <= cx1_) return true;
     return false;
-  };
+  }
 
-  // Without time, altitude, ground or bbox filters every point matches: skip the per-point test.
-  const PointFilter matches(query);
-  const bool every_point = matches.every_point();
-  // When the canvas lies within the world in x, a segment that does not cross 180° has no wrapped copy on
-  // it, and the common case goes straight to prepare_one.
-  const bool canvas_in_world = canvas.origin_x() >= 0 && canvas.end_x() <= kWorld;
-  const Grid grid(p);
-  const std::int64_t ox = canvas.origin_x(), oy = canvas.origin_y();
-  const std::int64_t last_col = canvas.width() - 1, last_row = canvas.height() - 1;
-
-  // A time window with the set's time index (trails/time_index.hpp): only the flights that may meet it,
-  // and of each only its points from the first inside it (the points before fail the window, so no
-  // segment before it is drawn and the run starts there, exactly as a walk from the flight's start gives).
-  const TimeIndex& ix = trails.time_index();
-  const bool windowed = ix.valid() && (query.t0 || query.t1);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  const double t0 = query.t0.value_or(-kInf), t1 = query.t1.value_or(kInf);
-  const std::pair<std::size_t, std::size_t> range =
-      windowed ? ix.flight_range(t0, t1) : std::pair<std::size_t, std::size_t>{0, flights.size()};
-  const std::size_t fb = range.first, fe = range.second;
-
-  auto draw_flight = [&](const Flight& f, LineSegments& out) {
-    if (f.size() < 2 || !query.may_match(f) || !may_meet(f)) return;
+  void draw_flight(const Flight& f, LineSegments& out) const {
+    if (f.size() < 2 || !query_.may_match(f) || !may_meet(f)) return;
     std::uint32_t first = f.begin, last = f.end;
-    if (windowed) {
-      if (t0 > f.t_min)
-        first = static_cast<std::uint32_t>(
-            std::lower_bound(pts.t.begin() + f.begin, pts.t.begin() + f.end, t0) - pts.t.begin());
-      if (t1 <= f.t_max)
-        last = static_cast<std::uint32_t>(std::lower_bound(pts.t.begin() + first, pts.t.begin() + f.end, t1) -
-                                          pts.t.begin());
+    if (windowed_) {
+      if (t0_ > f.t_min) first = lower_bound_time(pts_.t, f.begin, f.end, t0_);
+      if (t1_ <= f.t_max) last = lower_bound_time(pts_.t, first, f.end, t1_);
       if (last - first < 2) return;
     }
-    bool prev_ok = every_point || matches(pts, first);
+    // Without time, altitude, ground or bbox filters every point matches: no per-point test.
+    bool prev_ok = every_point_ || matches_(pts_, first);
     bool prev_drawn = false;
     for (std::uint32_t i = first + 1; i < last; ++i) {
-      const bool ok = every_point || matches(pts, i);
-      const bool draw = ok && prev_ok && pts.t[i] - pts.t[i - 1] <= max_gap_seconds;
+      const bool ok = every_point_ || matches_(pts_, i);
+      const bool draw = ok && prev_ok && pts_.t[i] - pts_.t[i - 1] <= max_gap_;
       if (draw) {
-        const std::int64_t ax = std::int64_t{mx[i - 1]} - ox, ay = std::int64_t{my[i - 1]} - oy;
-        const std::int64_t bx = std::int64_t{mx[i]} - ox, by = std::int64_t{my[i]} - oy;
-        if (canvas_in_world && bx - ax <= kHalfWorld && ax - bx <= kHalfWorld) {
-          const std::int64_t cax = grid.cell(ax), cbx = grid.cell(bx), cay = grid.cell(ay),
-                             cby = grid.cell(by);
-          const bool misses = std::max(cax, cbx) < 0 || std::min(cax, cbx) > last_col ||
-                              std::max(cay, cby) < 0 || std::min(cay, cby) > last_row;
+        const std::int64_t ax = std::int64_t{mx_[i - 1]} - ox_, ay = std::int64_t{my_[i - 1]} - oy_;
+        const std::int64_t bx = std::int64_t{mx_[i]} - ox_, by = std::int64_t{my_[i]} - oy_;
+        if (canvas_in_world_ && bx - ax <= kHalfWorld && ax - bx <= kHalfWorld) {
+          const std::int64_t cax = grid_.cell(ax), cbx = grid_.cell(bx), cay = grid_.cell(ay),
+                             cby = grid_.cell(by);
+          const bool misses = std::max(cax, cbx) < 0 || std::min(cax, cbx) > last_col_ ||
+                              std::max(cay, cby) < 0 || std::min(cay, cby) > last_row_;
           const bool adds_nothing = prev_drawn && cax == cbx && cay == cby;
           if (!misses && !adds_nothing) {
-            const double v =
-                values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
-            const bool has_value = with_value && !std::isnan(v);
-            prepare_one(out, grid, ax, ay, bx, by, prev_drawn, has_value ? to_fixed(v) : 0, has_value);
+            const double v = value_of(i);
+            const bool has_value = with_value_ && !std::isnan(v);
+            prepare_one(out, grid_, ax, ay, bx, by, prev_drawn, has_value ? to_fixed(v) : 0, has_value);
           }
         } else {
-          const double v =
-              values ? segment_value(values[i - 1], values[i]) : std::numeric_limits<double>::quiet_NaN();
-          append_segment(out, canvas, MercPoint{mx[i - 1], my[i - 1]}, MercPoint{mx[i], my[i]}, prev_drawn,
-                         v);
+          append_segment(out, canvas_, MercPoint{mx_[i - 1], my_[i - 1]}, MercPoint{mx_[i], my_[i]},
+                         prev_drawn, value_of(i));
         }
       }
       prev_drawn = draw;
       prev_ok = ok;
     }
-  };
-
-  // Fixed chunks of flights, concatenated in chunk order: the segment order (and so the result, though
-  // integer sums would not care) does not depend on the thread count.
-  constexpr std::size_t kChunk = 256;
-  const std::size_t chunks = (fe - fb + kChunk - 1) / kChunk;
-  std::vector<LineSegments> parts(chunks, LineSegments::for_canvas(canvas, with_value));
-  auto run_chunk = [&](std::size_t c) {
-    const std::size_t end = std::min(fe, fb + (c + 1) * kChunk);
-    for (std::size_t f = fb + c * kChunk; f < end; ++f) draw_flight(flights[f], parts[c]);
-  };
-  if (chunks > 1 && trails.num_points() >= 20000) {
-    tbb::parallel_for(std::size_t{0}, chunks, run_chunk);
-  } else {
-    for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
   }
 
-  LineSegments out = LineSegments::for_canvas(canvas, with_value);
+  double value_of(std::uint32_t i) const {  // of the segment ending at point i
+    return values_ ? segment_value(values_[i - 1], values_[i]) : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  const TrailSet& trails_;
+  const Query& query_;
+  const Canvas& canvas_;
+  bool with_value_;
+  double max_gap_;
+  const std::vector<Flight>& flights_;
+  const PointColumns& pts_;
+  const std::vector<std::uint32_t>& mx_;
+  const std::vector<std::uint32_t>& my_;
+  const float* values_;
+  std::int64_t p_, cx0_, cx1_;
+  RowTest rows_;
+  PointFilter matches_;
+  bool every_point_, canvas_in_world_;
+  Grid grid_;
+  std::int64_t ox_, oy_, last_col_, last_row_;
+  bool windowed_ = false;
+  double t0_ = 0, t1_ = 0;
+  std::size_t fb_ = 0, fe_ = 0;
+};
+
+}  // namespace
+
+LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, const Canvas& canvas,
+                                   DensityValue value, double max_gap_seconds) {
+  const SegmentPreparer prep(trails, query, canvas, value, max_gap_seconds);
+  std::vector<LineSegments> parts(prep.chunks(), prep.empty());
+  auto run_chunk = [&](std::size_t c) { prep.prepare_chunk(c, parts[c]); };
+  if (prep.parallel()) {
+    tbb::parallel_for(std::size_t{0}, parts.size(), run_chunk);
+  } else {
+    for (std::size_t c = 0; c < parts.size(); ++c) run_chunk(c);
+  }
+  // Concatenated in chunk order: the segment order (and so the result, though integer sums would not
+  // care) does not depend on the thread count.
+  LineSegments out = prep.empty();
   std::size_t total = 0;
   for (const auto& part : parts) total += part.size();
   out.walk.reserve(3 * total);
@@ -339,6 +434,60 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
     out.cells.insert(out.cells.end(), part.cells.begin(), part.cells.end());
   }
   return out;
+}
+
+Aggregate aggregate_lines(const TrailSet& trails, const Query& query, const Canvas& canvas,
+                          DensityValue value, double max_gap_seconds, Backend backend,
+                          std::size_t* segments) {
+  // Only `auto` asks about the device, so that `cpu` never initialises the OpenCL runtime.
+  const bool on_cpu = backend == Backend::cpu || (backend == Backend::auto_ && !ocl::device_is_gpu());
+  const std::size_t pixels =
+      static_cast<std::size_t>(canvas.width()) * static_cast<std::size_t>(canvas.height());
+  if (!on_cpu || pixels > kMaxPrivateGridPixels) {
+    const LineSegments s = prepare_line_segments(trails, query, canvas, value, max_gap_seconds);
+    if (segments) *segments = s.size();
+    return density_lines(s, backend);
+  }
+  const SegmentPreparer prep(trails, query, canvas, value, max_gap_seconds);
+  const bool with_value = value != DensityValue::count;
+  Aggregate a = Aggregate::zeros(canvas.width(), canvas.height(), with_value);
+  std::size_t n = 0;
+  if (!prep.parallel()) {
+    LineSegments scratch = prep.empty();
+    const SegmentGrids g = SegmentGrids::of(a);
+    for (std::size_t c = 0; c < prep.chunks(); ++c) {
+      scratch.walk.clear(), scratch.cells.clear();
+      prep.prepare_chunk(c, scratch);
+      walk_segments(scratch, 0, scratch.size(), g);
+      n += scratch.size();
+    }
+  } else {
+    // Per thread: the chunk's segments (reused, so that they stay in cache) and a private grid, summed
+    // at the end as density_lines_ref sums its own.
+    struct Local {
+      LineSegments scratch;
+      Aggregate grid;
+      std::size_t segments = 0;
+    };
+    tbb::enumerable_thread_specific<Local> local([&] {
+      return Local{prep.empty(), Aggregate::zeros(canvas.width(), canvas.height(), with_value), 0};
+    });
+    tbb::parallel_for(std::size_t{0}, prep.chunks(), [&](std::size_t c) {
+      Local& l = local.local();
+      l.scratch.walk.clear(), l.scratch.cells.clear();
+      prep.prepare_chunk(c, l.scratch);
+      walk_segments(l.scratch, 0, l.scratch.size(), SegmentGrids::of(l.grid));
+      l.segments += l.scratch.size();
+    });
+    for (const Local& l : local) {
+      add_into(a, l.grid);
+      n += l.segments;
+    }
+  }
+  ocl::record_path("density_lines", ocl::Path::cpu);
+  a.path = ComputePath::cpu;
+  if (segments) *segments = n;
+  return a;
 }
 
 Aggregate Aggregate::zeros(int width, int height, bool with_value) {

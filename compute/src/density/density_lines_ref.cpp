@@ -4,19 +4,14 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "density/density_lines_walk.hpp"
 #include "trailscope/density/density_lines.hpp"
 
 namespace trailscope::density {
 namespace {
 
-struct Grids {
-  std::int32_t* count;
-  std::int64_t* value_sum;    // nullptr without values
-  std::int32_t* value_count;  // nullptr without values
-};
-
 void walk_segment(const std::int64_t* walk, const std::int32_t* cells, int width, int height,
-                  const Grids& g) {
+                  const SegmentGrids& g) {
   std::int64_t d = walk[0];
   const std::int64_t inc_x = walk[1], inc_y = walk[2];
   int i = cells[0], j = cells[1];
@@ -62,56 +57,43 @@ void walk_segment(const std::int64_t* walk, const std::int32_t* cells, int width
   }
 }
 
-struct LocalGrids {
-  std::vector<std::int32_t> count, value_count;
-  std::vector<std::int64_t> value_sum;
-  Grids view() {
-    return Grids{count.data(), value_sum.empty() ? nullptr : value_sum.data(),
-                 value_count.empty() ? nullptr : value_count.data()};
-  }
-};
-
 }  // namespace
+
+void walk_segments(const LineSegments& s, std::size_t first, std::size_t last, const SegmentGrids& g) {
+  for (std::size_t k = first; k < last; ++k)
+    walk_segment(&s.walk[3 * k], &s.cells[6 * k], s.width, s.height, g);
+}
+
+void add_into(Aggregate& to, const Aggregate& from) {
+  // Integer sums: the result is the same whichever thread drew which segment.
+  const std::size_t pixels = to.count.size();
+  for (std::size_t p = 0; p < pixels; ++p) to.count[p] += from.count[p];
+  if (to.with_value)
+    for (std::size_t p = 0; p < pixels; ++p) {
+      to.value_sum[p] += from.value_sum[p];
+      to.value_count[p] += from.value_count[p];
+    }
+}
 
 Aggregate density_lines_ref(const LineSegments& s) {
   Aggregate a = Aggregate::zeros(s.width, s.height, s.with_value);
   const std::size_t n = s.size();
   const std::size_t pixels = a.count.size();
   // Per-thread private grids (cleared, then summed) pay off when there are enough segments to walk
-  // per pixel of grid; for few segments, or canvases over 4 Mpx (16 MiB per private count grid), one
-  // thread adds into the result directly. E.g. the Europe day's 127k segments on a 2048² canvas (8.6M
-  // pixel visits) still gain from two threads.
+  // per pixel of grid; for few segments, or canvases over kMaxPrivateGridPixels, one thread adds into
+  // the result directly. E.g. the Europe day's 127k segments on a 2048² canvas (8.6M pixel visits) still
+  // gain from two threads.
   constexpr std::size_t kParallelMinSegments = 16384;
-  constexpr std::size_t kParallelMaxPixels = std::size_t{1} << 22;
-  if (n < kParallelMinSegments || pixels > kParallelMaxPixels || n < pixels / 64) {
-    const Grids g{a.count.data(), s.with_value ? a.value_sum.data() : nullptr,
-                  s.with_value ? a.value_count.data() : nullptr};
-    for (std::size_t k = 0; k < n; ++k) walk_segment(&s.walk[3 * k], &s.cells[6 * k], s.width, s.height, g);
+  if (n < kParallelMinSegments || pixels > kMaxPrivateGridPixels || n < pixels / 64) {
+    walk_segments(s, 0, n, SegmentGrids::of(a));
   } else {
-    tbb::enumerable_thread_specific<LocalGrids> local([&] {
-      LocalGrids l;
-      l.count.assign(pixels, 0);
-      if (s.with_value) {
-        l.value_sum.assign(pixels, 0);
-        l.value_count.assign(pixels, 0);
-      }
-      return l;
-    });
+    tbb::enumerable_thread_specific<Aggregate> local(
+        [&] { return Aggregate::zeros(s.width, s.height, s.with_value); });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                        const Grids g = local.local().view();
-                        for (std::size_t k = r.begin(); k < r.end(); ++k)
-                          walk_segment(&s.walk[3 * k], &s.cells[6 * k], s.width, s.height, g);
+                        walk_segments(s, r.begin(), r.end(), SegmentGrids::of(local.local()));
                       });
-    // Integer sums: the result is the same whichever thread drew which segment.
-    for (auto& l : local) {
-      for (std::size_t p = 0; p < pixels; ++p) a.count[p] += l.count[p];
-      if (s.with_value)
-        for (std::size_t p = 0; p < pixels; ++p) {
-          a.value_sum[p] += l.value_sum[p];
-          a.value_count[p] += l.value_count[p];
-        }
-    }
+    for (const Aggregate& l : local) add_into(a, l);
   }
   a.path = ComputePath::cpu;
   return a;

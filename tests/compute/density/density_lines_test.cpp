@@ -12,6 +12,9 @@
 #include "density_test_util.hpp"
 #include "trailscope/core/error.hpp"
 #include "trailscope/geo/web_mercator.hpp"
+#include "trailscope/trails/point_filter.hpp"
+#include "trailscope/trails/time_index.hpp"
+#include "trailscope/trails/trail_set_builder.hpp"
 
 namespace trailscope::density {
 namespace {
@@ -235,6 +238,95 @@ TEST(DensityLines, PreparedFromTrailsHonoursQueryGapAndRuns) {
       density_lines(prepare_line_segments(ts, only_a, c, DensityValue::count), Backend::cpu).total_count(),
       density_lines(straight, Backend::cpu).total_count());
   EXPECT_THROW(prepare_line_segments(ts, all, c, DensityValue::count, 0.0), Error);
+}
+
+// WHAT IS DRAWN, written from density_lines.hpp without the time index, the flights' zone map or chunks:
+// every segment of every flight, both samples passing the query, within the gap, a run's later segments
+// leaving out their first pixel; the walk is append_segment's (checked against the definition above).
+LineSegments drawn_by_definition(const TrailSet& ts, const Query& q, const Canvas& c, DensityValue v,
+                                 double max_gap) {
+  LineSegments out = LineSegments::for_canvas(c, v != DensityValue::count);
+  const PointFilter passes(q);
+  const auto& p = ts.points();
+  for (const Flight& f : ts.flights()) {
+    if (!q.matches_flight_ids(f)) continue;
+    bool prev_drawn = false;
+    for (std::uint32_t i = f.begin + 1; i < f.end; ++i) {
+      const bool draw = passes(p, i - 1) && passes(p, i) && p.t[i] - p.t[i - 1] <= max_gap;
+      if (draw) {
+        const float* col = v == DensityValue::altitude ? p.alt.data() : p.speed.data();
+        const float a = col[i - 1], b = col[i];
+        const double value = std::isnan(a) ? b : std::isnan(b) ? a : 0.5 * (double{a} + double{b});
+        append_segment(out, c, {ts.merc_x()[i - 1], ts.merc_y()[i - 1]}, {ts.merc_x()[i], ts.merc_y()[i]},
+                       prev_drawn, value);
+      }
+      prev_drawn = draw;
+    }
+  }
+  return out;
+}
+
+TEST(DensityLines, TrailsDrawnInOnePassAsByTheDefinition) {
+  // 700 flights of 40 samples at uneven intervals (5–200 s, some over the gap), enough for the parallel
+  // chunks: flights along the edges of the canvases (the latitude zone map's boundaries), a few across
+  // 180°, unknown altitudes. Each window and filter gives the same numbers by the definition, by
+  // prepare_line_segments + density_lines_ref, and by aggregate_lines' one pass.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  TrailSetBuilder b;
+  const Canvas tile = Canvas::for_tile(geo::TileId{6, 33, 22}, 256);
+  const double tile_north = geo::merc_y_to_lat(static_cast<double>(tile.origin_y()));
+  const double tile_south = geo::merc_y_to_lat(static_cast<double>(tile.end_y()));
+  const double tile_west = geo::merc_x_to_lon(static_cast<double>(tile.origin_x()));
+  for (int k = 0; k < 700; ++k) {
+    const std::string icao = "f" + std::to_string(100000 + k);
+    // A third fly due east or west along the tile's north or south edge, within a pixel (0.02°) on either
+    // side of it; a few cross 180°.
+    const int kind = k % 12;
+    double lat = kind < 4   ? tile_north + (u(rng) - 0.5) * 0.02
+                 : kind < 8 ? tile_south + (u(rng) - 0.5) * 0.02
+                            : -60 + 120 * u(rng);
+    const double climb = kind < 8 ? 0.0 : 1.0;
+    double lon = kind == 11 ? 179.5 : kind < 8 ? tile_west + 6 * u(rng) : -180 + 360 * u(rng);
+    const double heading = 2 * M_PI * u(rng), step = kind < 8 ? 0.01 : 0.3;
+    double t = 1000 * u(rng);
+    for (int i = 0; i < 40; ++i) {
+      Sample s;
+      s.t = t, s.lat = static_cast<float>(lat), s.lon = static_cast<float>(lon);
+      s.alt = u(rng) < 0.1 ? NAN : static_cast<float>(10000 * u(rng));
+      s.speed = static_cast<float>(250 * u(rng));
+      b.add(icao, "", s);
+      t += u(rng) < 0.05 ? 2000 : 5 + 195 * u(rng);
+      lat = std::clamp(lat + climb * step * std::sin(heading) * u(rng), -80.0, 80.0);
+      lon += step * std::cos(heading) * u(rng);
+      if (lon >= 180) lon -= 360;
+    }
+  }
+  const TrailSet ts = b.build(nullptr, 1e9);  // kept whole: the gaps are the rasteriser's to skip
+  ASSERT_TRUE(ts.time_index().valid());
+  ASSERT_GE(ts.num_points(), 20000u);
+
+  std::vector<Query> queries(5);
+  queries[1].t0 = 1500, queries[1].t1 = 5000;    // a window inside most flights
+  queries[2].t0 = 3333.5, queries[2].t1 = 3400;  // shorter than most sample intervals
+  queries[3].alt_min = 2000, queries[3].alt_max = 8000;
+  queries[4].t0 = 0, queries[4].t1 = 2500, queries[4].alt_min = 100;
+  const Canvas world = Canvas::for_tile(geo::TileId{0, 0, 0}, 512);
+  const Canvas wide = Canvas::for_tile(geo::TileId{2, 1, 1}, 256, 3);
+  int drawn = 0;
+  for (const Canvas* c : {&tile, &world, &wide})
+    for (const Query& q : queries)
+      for (DensityValue v : {DensityValue::count, DensityValue::altitude}) {
+        const double gap = v == DensityValue::count ? 600.0 : INFINITY;
+        const Aggregate want = density_lines_ref(drawn_by_definition(ts, q, *c, v, gap));
+        const LineSegments prepared = prepare_line_segments(ts, q, *c, v, gap);
+        EXPECT_TRUE(density_lines_ref(prepared).same_numbers(want)) << q.canonical();
+        std::size_t n = 0;
+        EXPECT_TRUE(aggregate_lines(ts, q, *c, v, gap, Backend::cpu, &n).same_numbers(want)) << q.canonical();
+        EXPECT_EQ(n, prepared.size());
+        drawn += want.total_count() > 0;
+      }
+  EXPECT_EQ(drawn, 30);  // every case draws something
 }
 
 TEST(DensityLines, ParsesValueNames) {

@@ -140,6 +140,15 @@ Aggregate density_lines(const LineSegments& segments, Backend backend = default_
 /// summed; integer sums make it deterministic).
 Aggregate density_lines_ref(const LineSegments& segments);
 
+/// prepare_line_segments() then density_lines(), with the same numbers on every path. When the walk stays
+/// on the CPU (`cpu`, or `auto` without a GPU) and the canvas is small enough for a private grid per
+/// thread, in one pass: each chunk of flights is walked as soon as it is prepared, so the segments are
+/// never stored whole (gathering them was a tenth of a cold tile over a dense hour). `segments`, when
+/// given, receives the number of prepared segments. Throws what those two throw.
+Aggregate aggregate_lines(const TrailSet& trails, const Query& query, const Canvas& canvas,
+                          DensityValue value, double max_gap_seconds, Backend backend,
+                          std::size_t* segments = nullptr);
+
 /// Segments below which `auto` never picks OpenCL, even on a GPU (launch + transfer overhead).
 inline constexpr std::size_t kAutoOpenClMinSegments = 50000;
 
