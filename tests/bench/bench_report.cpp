@@ -1299,7 +1299,16 @@ int main(int argc, char** argv) {
              "whole hours from counts made at construction), **scan** the plain pass over every flight "
              "(`summarize_scan()`; for the tile, the same flights without an index). 1-hour windows start "
              "at random instants (not on the hour); each cold tile is a new renderer (its colour span "
-             "computed) and a new hour, z 5 over Chicago, 256 px.\n\n"
+             "computed) and a new hour, z 5 over Chicago, 256 px; `tile_1h_span` is its colour span alone "
+             "(the coarse aggregate of the whole window, `renderer.hpp`), `tile_1h_aggregate` the tile's own "
+             "aggregate alone.";
+      if (const json* w = find1("week_window"))
+        body << " A 1-hour window's flights: " << grouped(w, "range_flights_p50")
+             << " in the time index's range (flights in start order, so every leg that began up to the "
+                "longest leg's duration before the window), "
+             << grouped(w, "window_flights_p50") << " of them with a point in it (medians).";
+      body
+          << "\n\n"
              "CPU is the process's CPU time over the read (all threads; less than wall time × threads "
              "when the machine is shared and the threads wait for a core), load the 1-minute load "
              "average when the read began.\n\n"

@@ -14,6 +14,7 @@
 // Records: {"bench":"week_dataset"}, {"bench":"week_read","read":
 // "summary_1h"|"summary_week"|"tile_1h_cold"|..., "impl":"indexed"|"scan"}, {"bench":"week_memory"}.
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -190,6 +191,8 @@ int main(int argc, char** argv) {
     ts::density::TileRequest req;
     req.tile = tile_at(-87.6, 41.9, 5);
     req.backend = ts::Backend::cpu;
+    req.max_gap_seconds =
+        std::numeric_limits<double>::infinity();  // as the tile route asks (routes/tiles.cpp)
     timed("tile_1h_cold", "indexed", reps, [&](int i) {
       ts::density::DensityRenderer r;
       return r.render_tile(week, "week", hour(i), req).png.size();
@@ -197,10 +200,10 @@ int main(int argc, char** argv) {
     // The cold tile's two parts: the shared colour span (the coarse aggregate of the whole window,
     // renderer.hpp) and the tile's own aggregate.
     timed("tile_1h_span", "indexed", reps, [&](int i) {
-      return static_cast<std::uint64_t>(
-          ts::density::estimate_span(week, hour(i), req.value, req.tile.z, req.size, req.kernel_radius,
-                                     req.max_gap_seconds, req.backend)
-              .samples);
+      return static_cast<std::uint64_t>(ts::density::estimate_span(week, hour(i), req.value, req.tile.z,
+                                                                   req.size, req.kernel_radius,
+                                                                   req.max_gap_seconds, req.backend)
+                                            .samples);
     });
     timed("tile_1h_aggregate", "indexed", reps, [&](int i) {
       ts::density::AggregateOptions ao;
