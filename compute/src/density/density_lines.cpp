@@ -439,8 +439,12 @@ LineSegments prepare_line_segments(const TrailSet& trails, const Query& query, c
 Aggregate aggregate_lines(const TrailSet& trails, const Query& query, const Canvas& canvas,
                           DensityValue value, double max_gap_seconds, Backend backend,
                           std::size_t* segments) {
-  // Only `auto` asks about the device, so that `cpu` never initialises the OpenCL runtime.
-  const bool on_cpu = backend == Backend::cpu || (backend == Backend::auto_ && !ocl::device_is_gpu());
+  // Only `auto` asks about the device, and only for a set large enough to give kAutoOpenClMinSegments
+  // segments (a segment's copies across 180° aside), so that `cpu` and small sets never initialise the
+  // OpenCL runtime, as density_lines() does not.
+  const bool on_cpu =
+      backend == Backend::cpu ||
+      (backend == Backend::auto_ && (trails.num_points() < kAutoOpenClMinSegments || !ocl::device_is_gpu()));
   const std::size_t pixels =
       static_cast<std::size_t>(canvas.width()) * static_cast<std::size_t>(canvas.height());
   if (!on_cpu || pixels > kMaxPrivateGridPixels) {
