@@ -529,6 +529,89 @@ TEST(ClickHouseStore, DemoDayAnswersTheSameOnBothBackends) {
   compare_backends(ds, "demo day", false);
 }
 
+TEST(ClickHouseStore, ADatabaseMadeBeforeTheSegmentAttributesIsStillRead) {
+  // The tables as an earlier version made them: segments with prev_t but without the point attributes
+  // and values, no table of implausible values. The store writes and reads that layout, and answers the
+  // tiles and quality blocks that need what it lacks from a fetched copy, with the same bytes.
+  REQUIRE_CLUSTER();
+  const fs::path so6 = test::shared_data("flights/traffic_europe_20180101_m3.so6.gz");
+  if (!fs::exists(so6)) GTEST_SKIP() << so6 << " is absent";
+  ClickHouseUrl url = ClickHouseUrl::parse(cluster_url());
+  url.database += "_old";
+  const std::string db = url.database, on = " ON CLUSTER " + url.cluster;
+  ClickHouseClient c(url.hosts);
+  c.query("DROP DATABASE IF EXISTS " + db + on);
+  c.query("CREATE DATABASE " + db + on);
+  auto replicated = [&](const std::string& table) {
+    return "ReplicatedMergeTree('/clickhouse/tables/{shard}/" + db + "/" + table + "', '{replica}')";
+  };
+  c.query(
+      "CREATE TABLE " + db + ".points_local" + on +
+      " (dataset String, idx UInt32, flight UInt32, t Float64, lat Float32, lon Float32, alt Float32, "
+      "speed Float32, track Float32, vrate Float32, on_ground UInt8, mx UInt32, my UInt32, morton UInt64, "
+      "hour Int32) ENGINE = " +
+      replicated("points_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
+  c.query("CREATE TABLE " + db + ".segments_local" + on +
+          " (dataset String, idx UInt32, flight UInt32, t0 Float64, t1 Float64, x0 UInt32, y0 UInt32, x1 "
+          "UInt32, y1 UInt32, morton UInt64, hour Int32, prev_t Float64) ENGINE = " +
+          replicated("segments_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
+  c.query("CREATE TABLE " + db + ".flights_local" + on +
+          " (dataset String, flight UInt32, begin UInt32, end UInt32, icao24 String, callsign String, t_min "
+          "Float64, t_max Float64, lat_min Float32, lat_max Float32, lon_min Float32, lon_max Float32, "
+          "alt_min Float32, alt_max Float32, crosses UInt8) ENGINE = " +
+          replicated("flights_local") + " PARTITION BY dataset ORDER BY flight");
+  for (const std::string t : {"points", "segments", "flights"})
+    c.query("CREATE TABLE " + db + "." + t + on + " AS " + db + "." + t + "_local ENGINE = Distributed(" +
+            url.cluster + ", " + db + ", " + t + "_local, intHash32(flight))");
+  c.query("CREATE TABLE " + db + ".catalogue" + on +
+          " (id String, version UInt64, deleted UInt8, name String, format String, created String, owner "
+          "String, ingest String, points UInt64, flights UInt64) ENGINE = ReplicatedMergeTree('/clickhouse/"
+          "tables/all/" +
+          db + "/catalogue', '{shard}-{replica}') ORDER BY (id, version)");
+
+  ingest::IngestReport report;
+  auto ds = std::make_shared<Dataset>();
+  ds->trails = std::make_shared<const TrailSet>(ingest::ingest_file(so6.string(), {}, &report));
+  ds->id = "europe", ds->name = "Europe 2018-01-01", ds->format = "so6";
+  ds->created = "2026-11-26T10:00:00Z", ds->owner = "tester", ds->ingest = report.to_json();
+  test::TempDir tmp;
+  auto embedded = std::make_shared<EmbeddedStore>(tmp.path() / "embedded");
+  embedded->put(ds);
+  std::make_shared<ClickHouseStore>(url, true)->put(ds);
+  auto old = std::make_shared<ClickHouseStore>(url, true);
+  EXPECT_EQ(c.query("SELECT count() FROM system.tables WHERE database = " + ClickHouseClient::quote(db) +
+                    " AND name LIKE 'events%' FORMAT TSV"),
+            "0\n")
+      << "the store added tables to an existing database";
+  const Side e(embedded, tmp.path() / "e"), o(old, tmp.path() / "o");
+  const double mid = std::floor((ds->trails->t_min() + ds->trails->t_max()) / 2);
+  const std::string m = std::to_string(static_cast<long long>(mid)),
+                    m1 = std::to_string(static_cast<long long>(mid - 3600));
+  const std::string tiles = "/tiles/europe/density/";
+  int reads = 0;
+  for (const auto& [path, q] : std::vector<std::pair<std::string, std::map<std::string, std::string>>>{
+           {tiles + "4/8/5.png", {{"t0", m1}, {"t1", m}}},
+           {tiles + "4/8/5.png", {{"value", "altitude"}}},
+           {tiles + "4/8/5.png", {{"alt_min", "20000"}, {"kernel", "1"}}},
+           {"/api/v1/datasets/europe/summary", {{"bbox", "-5,40,10,55"}, {"t0", m1}}}}) {
+    const Response ra = e.get(path, q), rb = o.get(path, q);
+    EXPECT_EQ(ra.status, 200) << path;
+    std::string ba = ra.bytes(), bb = rb.bytes();
+    if (ra.content_type == "application/json") {
+      auto ja = nlohmann::json::parse(ba), jb = nlohmann::json::parse(bb);
+      ja.erase("elapsed_ms"), jb.erase("elapsed_ms");
+      ba = ja.dump(), bb = jb.dump();
+    }
+    EXPECT_TRUE(ba == bb) << path << ": the backends differ";
+    ++reads;
+  }
+  EXPECT_EQ(reads, 4);
+  // The windowed count tile and the summary's counts ran on the shards; the rest needed the copy.
+  EXPECT_EQ(old->fetched_copies(), 1u);
+  EXPECT_GE(old->pushed_down_reads(), 2u);
+  c.query("DROP DATABASE " + db + on);
+}
+
 TEST(ClickHouseStore, PutAgainAfterDeleteAndConflicts) {
   REQUIRE_CLUSTER();
   TrailSetBuilder b;
