@@ -13,7 +13,9 @@
 // the same factor; means are not scaled. Traffic converging on a point (an airport) does not thin out
 // with zoom, so above L_s such pixels exceed the estimated span and take the top colour — as they would
 // near the top of an exact eq_hist anyway. Either way every tile of the level gets the same span, which
-// is what keeps neighbouring tiles seamless. The span is computed on the request's backend.
+// is what keeps neighbouring tiles seamless. The span is computed on the request's backend, or from a
+// coarse aggregate a store counts where its rows are (span_for with a CoarseAggregateFn: the same plan,
+// finishing and cache).
 #include <cstdint>
 #include <functional>
 #include <memory>
