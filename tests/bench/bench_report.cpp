@@ -1213,8 +1213,8 @@ int main(int argc, char** argv) {
     // ---- 15. the ClickHouse store against the embedded store and ClickHouse's own SQL
     // (clickhouse_store_bench)
     if (const auto reads = find("clickhouse_store_read"); !reads.empty()) {
-      // The server's overhead on the reads answered by SQL alone (summaries carry the data-quality block,
-      // computed on the server's copy; tiles the shading and PNG: shown, not part of the target).
+      // The server's overhead on the reads answered by SQL alone (summaries finish on the server, tiles
+      // carry the smoothing, shading and PNG: shown, not part of the target).
       double worst = 0;
       std::string worst_read;
       for (const json* r : reads) {
@@ -1236,13 +1236,13 @@ int main(int argc, char** argv) {
               "segment and flight row to both replicas of its shard; bytes on disk count every replica.\n\n"
               "| set | scale | points | cluster ingest | cluster rows/s | embedded ingest | cluster disk, "
               "bytes/point "
-              "(points + segments, all replicas) | embedded disk, bytes/point | describe (fresh store) | "
+              "(every table, all replicas) | embedded disk, bytes/point | describe (fresh store) | "
               "fetch "
               "of the whole copy |\n|---|---|---|---|---|---|---|---|---|---|\n";
       for (const json* r : find("clickhouse_store_put")) {
         const double pts = dbl(r, "points", 1);
         const double cb = dbl(r, "cluster_points_bytes", 0) + dbl(r, "cluster_segments_bytes", 0) +
-                          dbl(r, "cluster_flights_bytes", 0);
+                          dbl(r, "cluster_flights_bytes", 0) + dbl(r, "cluster_events_bytes", 0);
         body << "| " << str(r, "set") << " | ×" << str(r, "scale") << " | " << grouped(r, "points") << " | "
              << grouped(r, "points_per_s") << " points/s | " << grouped(r, "rows_per_s") << " | "
              << grouped(r, "embedded_points_per_s") << " points/s | " << num(cb / pts, 1) << " | "
@@ -1250,8 +1250,8 @@ int main(int argc, char** argv) {
              << ms(r, "fetch_ms") << " ms |\n";
       }
       body << "\nEach read three ways: **TrailScope** (the ClickHouse store's call on the dataset as the "
-              "routes hold it, and the JSON the route sends: SQL, merge, and what stays on the server: the "
-              "summary's data-quality block and a tile's span on the server's copy, shading and PNG), "
+              "routes hold it, and the JSON the route sends: SQL, merge, and what stays on the server: "
+              "finishing the summary, smoothing, shading and PNG), "
               "**ClickHouse** (the same SQL alone through a plain HTTP client) and the **embedded** store "
               "(compute/ in process). Overhead = TrailScope p50 / ClickHouse p50 − 1. Warm span: the tile's "
               "zoom was drawn before (every tile of a zoom after the first); cold: the span is computed "

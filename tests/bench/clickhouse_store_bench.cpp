@@ -7,8 +7,8 @@
 // level's span cached, and a cold tile whose span is computed too), three timings:
 //  - trailscope: the store's answer as the route serialises it (ClickHouseStore's DatasetReads call on
 //    the described dataset, as the routes hold it, and to_json().dump(): the SQL, the merge with
-//    compute/'s finishing code, and what stays on the server — the summary's data-quality block and the
-//    tile's span on the server's copy, the JSON, the shading and PNG);
+//    compute/'s finishing code, and what stays on the server — the JSON, the smoothing, shading and PNG;
+//    the summary's data-quality block and the cold tile's span are SQL on the shards too);
 //  - clickhouse: the same SQL the store sent, run alone through a plain client: ClickHouse's own time for
 //    the same result, over the same HTTP interface;
 //  - embedded: compute/ in this process (LocalReads, the embedded store's reads) on the copy the
@@ -169,7 +169,8 @@ int main(int argc, char** argv) {
       const double put_ms = ms_since(t0);
       const std::uint64_t pbytes = cluster_bytes(store, "points", ds->id),
                           sbytes = cluster_bytes(store, "segments", ds->id),
-                          fbytes = cluster_bytes(store, "flights", ds->id);
+                          fbytes = cluster_bytes(store, "flights", ds->id),
+                          ebytes = cluster_bytes(store, "events", ds->id);
       log(label + ": put " + std::to_string(put_ms / 1000) + " s into the cluster, " +
           std::to_string(emb_put_ms / 1000) + " s into the embedded store");
       ds.reset();  // one copy in memory at a time: the fetched one from here on
@@ -201,6 +202,7 @@ int main(int argc, char** argv) {
             {"cluster_points_bytes", pbytes},
             {"cluster_segments_bytes", sbytes},
             {"cluster_flights_bytes", fbytes},
+            {"cluster_events_bytes", ebytes},
             {"describe_ms", std::round(describe_ms * 10) / 10},
             {"fetch_ms", std::round(fetch_ms)},
             {"peak_rss_mib", std::round(peak_rss_mib())}});

@@ -150,22 +150,6 @@ void prepare_one(LineSegments& out, const Grid& grid, std::int64_t ax, std::int6
   out.cells.push_back(value);
 }
 
-std::int32_t to_fixed(double v) {
-  const double f = std::nearbyint(v * kValueScale);
-  constexpr double lo = std::numeric_limits<std::int32_t>::min(),
-                   hi = std::numeric_limits<std::int32_t>::max();
-  return static_cast<std::int32_t>(std::clamp(f, lo, hi));
-}
-
-// Mean of a segment's endpoint values (the known one if the other is NaN).
-double segment_value(float a, float b) {
-  const bool ka = !std::isnan(a), kb = !std::isnan(b);
-  if (ka && kb) return 0.5 * (static_cast<double>(a) + static_cast<double>(b));
-  if (ka) return a;
-  if (kb) return b;
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
 // The canvas's rows as latitudes, so that a flight's (float) latitude extents are tested against them
 // without projecting two latitudes per flight: lat_to_merc_y's tan and asinh were a seventh of a cold tile
 // over a dense hour. The answer is the projection's: a flight whose extents lie within kBandDeg of a
@@ -215,6 +199,21 @@ std::uint32_t lower_bound_time(const std::vector<double>& t, std::uint32_t begin
 }
 
 }  // namespace
+
+std::int32_t to_fixed(double v) {
+  const double f = std::nearbyint(v * kValueScale);
+  constexpr double lo = std::numeric_limits<std::int32_t>::min(),
+                   hi = std::numeric_limits<std::int32_t>::max();
+  return static_cast<std::int32_t>(std::clamp(f, lo, hi));
+}
+
+double segment_value(float a, float b) {
+  const bool ka = !std::isnan(a), kb = !std::isnan(b);
+  if (ka && kb) return 0.5 * (static_cast<double>(a) + static_cast<double>(b));
+  if (ka) return a;
+  if (kb) return b;
+  return std::numeric_limits<double>::quiet_NaN();
+}
 
 DensityValue parse_density_value(std::string_view text, const std::string& param) {
   if (text == "count") return DensityValue::count;

@@ -151,16 +151,25 @@ SpanPlan plan_span(const TrailSet& trails, const Query& query, int z, int tile_s
   return plan;
 }
 
-// The unscaled span of the coarse aggregate.
+// The unscaled span of the coarse aggregate: aggregated here on `trails`, or, with `counted`, counted
+// elsewhere on the same grown canvas and finished as aggregate() finishes its own.
 SpanStats coarse_span(const TrailSet& trails, const Query& query, DensityValue value, const SpanPlan& plan,
-                      int tile_size, double max_gap_seconds, Backend backend) {
+                      int tile_size, double max_gap_seconds, Backend backend,
+                      const CoarseAggregateFn* counted = nullptr) {
   AggregateOptions options;
   options.value = value;
   options.kernel_radius = plan.radius;
   options.max_gap_seconds = max_gap_seconds;
   options.backend = backend;
-  return compute_span(
-      aggregate(trails, query, Canvas::for_zoom(plan.box, plan.zs, tile_size), options).raster);
+  const Canvas canvas = Canvas::for_zoom(plan.box, plan.zs, tile_size);
+  if (!counted) return compute_span(aggregate(trails, query, canvas, options).raster);
+  const int grow = static_cast<int>(std::ceil(options.kernel_radius));
+  const Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
+  const Aggregate agg = (*counted)(work, value, max_gap_seconds);
+  if (agg.width != work.width() || agg.height != work.height() ||
+      agg.with_value != (value != DensityValue::count))
+    throw Error(Error::Kind::internal, "", "span: a coarse aggregate of the wrong size");
+  return compute_span(finish_aggregate(agg, work, options).raster);
 }
 
 // From the coarse span to the level's: counts scale with the pixel width and, unsmoothed, are >= 1.
@@ -264,6 +273,20 @@ DensityRenderer::~DensityRenderer() = default;
 std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trails,
                                                            const std::string& dataset_key, const Query& query,
                                                            const TileRequest& request, bool* cached) {
+  return span_of(trails, dataset_key, query, request, nullptr, cached);
+}
+
+std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& extent,
+                                                           const std::string& dataset_key, const Query& query,
+                                                           const TileRequest& request,
+                                                           const CoarseAggregateFn& coarse, bool* cached) {
+  return span_of(extent, dataset_key, query, request, &coarse, cached);
+}
+
+std::shared_ptr<const SpanStats> DensityRenderer::span_of(const TrailSet& trails,
+                                                          const std::string& dataset_key, const Query& query,
+                                                          const TileRequest& request,
+                                                          const CoarseAggregateFn* counted, bool* cached) {
   validate(request);
   const char sep = '\x1f';
   const std::string base = dataset_key + sep + query.canonical() + sep + to_string(request.value) + sep;
@@ -282,7 +305,7 @@ std::shared_ptr<const SpanStats> DensityRenderer::span_for(const TrailSet& trail
             coarse_key,
             [&] {
               return coarse_span(trails, query, request.value, plan, request.size, request.max_gap_seconds,
-                                 request.backend);
+                                 request.backend, counted);
             },
             nullptr);
         return level_span(*coarse, request.value, plan, request.kernel_radius);

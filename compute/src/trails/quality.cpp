@@ -63,6 +63,30 @@ nlohmann::json count_json(const QualityCount& c, const char* extra, double scale
 }
 }  // namespace
 
+namespace {
+// The implausible values of one flight among its samples that `pass`: emit(kind, index, value) for each.
+// Jumps are timed from the first report of the previous sample's position, whether it passes or not.
+template <class Pass, class Emit>
+void flight_quality(const PointColumns& p, const Flight& f, const Pass& pass, Emit&& emit) {
+  if (f.begin >= f.end) return;
+  bool prev = false;
+  double since = p.t[f.begin];  // first report of the previous sample's position
+  for (std::size_t i = f.begin; i < f.end; ++i) {
+    const bool ok = pass(i);
+    if (ok) {
+      if (p.speed[i] > kMaxPlausibleSpeedMs) emit(0, i, p.speed[i]);
+      if (p.alt[i] > kMaxPlausibleAltitudeM) emit(1, i, p.alt[i]);
+      if (prev) {
+        const double v = implied_speed_ms(since, p.lat[i - 1], p.lon[i - 1], p.t[i], p.lat[i], p.lon[i]);
+        if (v > kMaxPlausibleSpeedMs) emit(2, i, v);
+      }
+    }
+    prev = ok;
+    if (i > f.begin && (p.lat[i] != p.lat[i - 1] || p.lon[i] != p.lon[i - 1])) since = p.t[i];
+  }
+}
+}  // namespace
+
 QualityReport check_quality(const TrailSet& set, const Query& q) {
   const auto& p = set.points();
   const auto& flights = set.flights();
@@ -74,22 +98,9 @@ QualityReport check_quality(const TrailSet& set, const Query& q) {
           const Flight& f = flights[fi];
           if (!q.may_match(f)) continue;
           const auto id = static_cast<std::uint32_t>(fi);
-          bool prev = false;
-          double since = p.t[f.begin];  // first report of the previous sample's position
-          for (std::size_t i = f.begin; i < f.end; ++i) {
-            const bool pass = filter(p, i);
-            if (pass) {
-              if (p.speed[i] > kMaxPlausibleSpeedMs) acc.add(0, id, p.t[i], p.speed[i]);
-              if (p.alt[i] > kMaxPlausibleAltitudeM) acc.add(1, id, p.t[i], p.alt[i]);
-              if (prev) {
-                const double v =
-                    implied_speed_ms(since, p.lat[i - 1], p.lon[i - 1], p.t[i], p.lat[i], p.lon[i]);
-                if (v > kMaxPlausibleSpeedMs) acc.add(2, id, p.t[i], v);
-              }
-            }
-            prev = pass;
-            if (i > f.begin && (p.lat[i] != p.lat[i - 1] || p.lon[i] != p.lon[i - 1])) since = p.t[i];
-          }
+          flight_quality(
+              p, f, [&](std::size_t i) { return filter(p, i); },
+              [&](int kind, std::size_t i, double v) { acc.add(kind, id, p.t[i], v); });
         }
         acc.trim();
         return acc;
@@ -110,6 +121,28 @@ QualityReport check_quality(const TrailSet& set, const Query& q) {
     for (auto& e : counts[k]->examples) e.callsign = flights[e.flight_id].callsign;
   }
   return out;
+}
+
+std::vector<QualityEvent> quality_events(const TrailSet& set) {
+  const auto& p = set.points();
+  const auto& flights = set.flights();
+  using Events = std::vector<QualityEvent>;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, flights.size(), 64), Events{},
+      [&](const tbb::blocked_range<std::size_t>& r, Events acc) {
+        for (std::size_t fi = r.begin(); fi != r.end(); ++fi)
+          flight_quality(
+              p, flights[fi], [](std::size_t) { return true; },
+              [&](int kind, std::size_t i, double v) {
+                acc.push_back({static_cast<std::uint32_t>(fi), static_cast<std::uint32_t>(i),
+                               static_cast<std::uint8_t>(kind), v});
+              });
+        return acc;
+      },
+      [](Events a, const Events& b) {  // left before right: flight order
+        a.insert(a.end(), b.begin(), b.end());
+        return a;
+      });
 }
 
 QualityReport window_quality(const TrailSet& set, double t0, double t1) {

@@ -1,5 +1,6 @@
 #include "store/clickhouse_store.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include "store/clickhouse_tile_sql.hpp"
 #include "store/failpoint.hpp"
 #include "trailscope/core/limits.hpp"
+#include "trailscope/density/aggregate.hpp"
 #include "trailscope/density/tile_parts.hpp"
 #include "trailscope/trails/partial_reads.hpp"
 #include "trailscope/trails/quality.hpp"
@@ -175,15 +177,21 @@ void ClickHouseStore::create_tables() {
       "SELECT count() FROM system.tables WHERE database = " + ClickHouseClient::quote(db_) +
       " AND name IN ('points_local', 'segments_local', 'flights_local', 'points', 'segments', 'flights', "
       "'catalogue') FORMAT TSV");
-  // Flight extents and prev_t came later: a database made before them is read without (describe() and
-  // windowed tiles fetch the copy).
+  // Flight extents, prev_t and the segments' point attributes came later: a database made before them is
+  // read without (describe() and the tiles that need them fetch the copy).
   auto check_extents = [&] {
     segment_prev_t_ =
         client_.query("SELECT count() FROM system.columns WHERE database = " + ClickHouseClient::quote(db_) +
                       " AND table = 'segments_local' AND name = 'prev_t' FORMAT TSV") == "1\n";
+    segment_attrs_ =
+        client_.query("SELECT count() FROM system.columns WHERE database = " + ClickHouseClient::quote(db_) +
+                      " AND table = 'segments_local' AND name = 'v_flags' FORMAT TSV") == "1\n";
     flight_extents_ =
         client_.query("SELECT count() FROM system.columns WHERE database = " + ClickHouseClient::quote(db_) +
                       " AND table = 'flights_local' AND name = 'crosses' FORMAT TSV") == "1\n";
+    quality_events_ =
+        client_.query("SELECT count() FROM system.tables WHERE database = " + ClickHouseClient::quote(db_) +
+                      " AND name IN ('events_local', 'events') FORMAT TSV") == "2\n";
   };
   if (have == "7\n") return check_extents();
   client_.query("CREATE DATABASE IF NOT EXISTS " + db_ + on);
@@ -193,16 +201,25 @@ void ClickHouseStore::create_tables() {
       "speed Float32, track Float32, vrate Float32, on_ground UInt8, mx UInt32, my UInt32, "
       "morton UInt64, hour Int32) ENGINE = " +
       replicated("points_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
-  client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".segments_local" + on +
-                " (dataset String, idx UInt32, flight UInt32, t0 Float64, t1 Float64, x0 UInt32, y0 UInt32, "
-                "x1 UInt32, y1 UInt32, morton UInt64, hour Int32, prev_t Float64) ENGINE = " +
-                replicated("segments_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
+  client_.query(
+      "CREATE TABLE IF NOT EXISTS " + db_ + ".segments_local" + on +
+      " (dataset String, idx UInt32, flight UInt32, t0 Float64, t1 Float64, x0 UInt32, y0 UInt32, "
+      "x1 UInt32, y1 UInt32, morton UInt64, hour Int32, prev_t Float64, alt0 Float32, alt1 Float32, "
+      "lat0 Float32, lat1 Float32, lon0 Float32, lon1 Float32, g0 UInt8, g1 UInt8, prev_alt Float32, "
+      "prev_lat Float32, prev_lon Float32, prev_ground UInt8, v_alt Int32, v_speed Int32, v_flags "
+      "UInt8) ENGINE = " +
+      replicated("segments_local") + " PARTITION BY dataset ORDER BY (hour, morton)");
   client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".flights_local" + on +
                 " (dataset String, flight UInt32, begin UInt32, end UInt32, icao24 String, callsign String, "
                 "t_min Float64, t_max Float64, lat_min Float32, lat_max Float32, lon_min Float32, lon_max "
                 "Float32, alt_min Float32, alt_max Float32, crosses UInt8) ENGINE = " +
                 replicated("flights_local") + " PARTITION BY dataset ORDER BY flight");
-  for (const char* t : {"points", "segments", "flights"}) client_.query(distributed(t));
+  client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".events_local" + on +
+                " (dataset String, flight UInt32, kind UInt8, t Float64, value Float64, alt Float32, lat "
+                "Float32, lon Float32, on_ground UInt8, prev_t Float64, prev_alt Float32, prev_lat Float32, "
+                "prev_lon Float32, prev_ground UInt8, hour Int32) ENGINE = " +
+                replicated("events_local") + " PARTITION BY dataset ORDER BY (hour, flight)");
+  for (const char* t : {"points", "segments", "flights", "events"}) client_.query(distributed(t));
   // Replicated on every node (one replica set for the whole cluster): any node answers list().
   client_.query("CREATE TABLE IF NOT EXISTS " + db_ + ".catalogue" + on +
                 " (id String, version UInt64, deleted UInt8, name String, format String, created String, "
@@ -213,17 +230,20 @@ void ClickHouseStore::create_tables() {
 }
 
 bool ClickHouseStore::has_rows(const std::string& id) const {
-  return client_.query("SELECT count() FROM cluster(" + ClickHouseClient::quote(cluster_) +
-                       ", system, parts) WHERE database = " + ClickHouseClient::quote(db_) +
-                       " AND table IN ('points_local', 'segments_local', 'flights_local') AND active AND "
-                       "partition = " +
-                       ClickHouseClient::quote(id) + " FORMAT TSV") != "0\n";
+  return client_.query(
+             "SELECT count() FROM cluster(" + ClickHouseClient::quote(cluster_) +
+             ", system, parts) WHERE database = " + ClickHouseClient::quote(db_) +
+             " AND table IN ('points_local', 'segments_local', 'flights_local', 'events_local') AND "
+             "active AND "
+             "partition = " +
+             ClickHouseClient::quote(id) + " FORMAT TSV") != "0\n";
 }
 
 void ClickHouseStore::drop_partitions(const std::string& id) {
-  for (const char* t : {"points_local", "segments_local", "flights_local"})
-    client_.query("ALTER TABLE " + db_ + "." + t + " ON CLUSTER " + cluster_ + " DROP PARTITION " +
-                  ClickHouseClient::quote(id));
+  for (const char* t : {"points_local", "segments_local", "flights_local", "events_local"})
+    if (quality_events_ || std::string_view(t) != "events_local")
+      client_.query("ALTER TABLE " + db_ + "." + t + " ON CLUSTER " + cluster_ + " DROP PARTITION " +
+                    ClickHouseClient::quote(id));
 }
 
 void ClickHouseStore::remove_leftovers() {
@@ -231,7 +251,8 @@ void ClickHouseStore::remove_leftovers() {
   const std::string rows = client_.query(
       "SELECT DISTINCT partition FROM cluster(" + ClickHouseClient::quote(cluster_) +
       ", system, parts) WHERE database = " + ClickHouseClient::quote(db_) +
-      " AND table IN ('points_local', 'segments_local', 'flights_local') AND active FORMAT RowBinary");
+      " AND table IN ('points_local', 'segments_local', 'flights_local', 'events_local') AND active FORMAT "
+      "RowBinary");
   RowReader r{rows};
   std::set<std::string> orphans;
   while (!r.done()) {
@@ -445,7 +466,8 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
     for (const Flight& f : t.flights()) s += f.size() > 1 ? f.size() - 1 : 0;
     return s;
   }();
-  const double total = static_cast<double>(nf + n + segments) + 1;
+  const std::vector<QualityEvent> events = quality_events_ ? quality_events(t) : std::vector<QualityEvent>{};
+  const double total = static_cast<double>(nf + n + segments + events.size()) + 1;
   double done = 0;
   auto report = [&](std::size_t rows) {
     done += static_cast<double>(rows);
@@ -491,8 +513,13 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
       if (++rows == kBatchRows) flush("points", pcols, rows), rows = 0;
     }
     flush("points", pcols, rows), rows = 0;
-    const std::string scols = std::string("dataset, idx, flight, t0, t1, x0, y0, x1, y1, morton, hour") +
-                              (segment_prev_t_ ? ", prev_t" : "");
+    const std::string scols =
+        std::string("dataset, idx, flight, t0, t1, x0, y0, x1, y1, morton, hour") +
+        (segment_prev_t_ ? ", prev_t" : "") +
+        (segment_attrs_ ? ", alt0, alt1, lat0, lat1, lon0, lon1, g0, g1, prev_alt, prev_lat, prev_lon, "
+                          "prev_ground, v_alt, v_speed, v_flags"
+                        : "");
+    constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t f = 0; f < nf; ++f) {
       const Flight& fl = t.flights()[f];
       for (std::uint32_t i = fl.begin; i + 1 < fl.end; ++i) {
@@ -501,10 +528,42 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
         rb.num(mx[i]), rb.num(my[i]), rb.num(mx[i + 1]), rb.num(my[i + 1]);
         rb.num(morton(mx[i], my[i])), rb.num(hour_of(p.t[i]));
         if (segment_prev_t_) rb.num(i > fl.begin ? p.t[i - 1] : std::numeric_limits<double>::quiet_NaN());
+        if (segment_attrs_) {
+          // Both points' and the previous point's filter attributes (none before a flight's first), and
+          // the segment's values exactly as density_lines() computes them.
+          const bool first = i == fl.begin;
+          rb.num(p.alt[i]), rb.num(p.alt[i + 1]), rb.num(p.lat[i]), rb.num(p.lat[i + 1]), rb.num(p.lon[i]),
+              rb.num(p.lon[i + 1]), rb.num(p.on_ground[i]), rb.num(p.on_ground[i + 1]);
+          rb.num(first ? kNaN : p.alt[i - 1]), rb.num(first ? kNaN : p.lat[i - 1]),
+              rb.num(first ? kNaN : p.lon[i - 1]), rb.num<std::uint8_t>(first ? 0 : p.on_ground[i - 1]);
+          const double va = density::segment_value(p.alt[i], p.alt[i + 1]),
+                       vs = density::segment_value(p.speed[i], p.speed[i + 1]);
+          rb.num<std::int32_t>(std::isnan(va) ? 0 : density::to_fixed(va));
+          rb.num<std::int32_t>(std::isnan(vs) ? 0 : density::to_fixed(vs));
+          rb.num<std::uint8_t>((std::isnan(va) ? 0 : 1) | (std::isnan(vs) ? 0 : 2));
+        }
         if (++rows == kBatchRows) flush("segments", scols, rows), rows = 0;
       }
     }
     flush("segments", scols, rows), rows = 0;
+    if (quality_events_) {
+      // The implausible values with the attributes PointFilter reads of their sample and, for a jump, of
+      // the sample before it: the summary's quality block under any query (see summarize()).
+      const std::string ecols =
+          "dataset, flight, kind, t, value, alt, lat, lon, on_ground, prev_t, prev_alt, prev_lat, prev_lon, "
+          "prev_ground, hour";
+      for (const QualityEvent& e : events) {
+        const std::uint32_t i = e.point, j = e.kind == 2 ? e.point - 1 : e.point;
+        const bool jump = e.kind == 2;
+        rb.str(ds->id), rb.num(e.flight), rb.num(e.kind), rb.num(p.t[i]), rb.num(e.value);
+        rb.num(p.alt[i]), rb.num(p.lat[i]), rb.num(p.lon[i]), rb.num(p.on_ground[i]);
+        rb.num(jump ? p.t[j] : std::numeric_limits<double>::quiet_NaN());
+        rb.num(jump ? p.alt[j] : kNaN), rb.num(jump ? p.lat[j] : kNaN), rb.num(jump ? p.lon[j] : kNaN);
+        rb.num<std::uint8_t>(jump ? p.on_ground[j] : 0), rb.num(hour_of(p.t[i]));
+        if (++rows == kBatchRows) flush("events", ecols, rows), rows = 0;
+      }
+      flush("events", ecols, rows), rows = 0;
+    }
     failpoint("clickhouse.before_catalogue");
     // The catalogue row, last: from now on the dataset is visible.
     write_catalogue_row(ds->id, false, Meta{ds->name, ds->format, ds->created, ds->owner, ds->ingest, n}, n,
@@ -564,22 +623,33 @@ std::string ClickHouseStore::read(const std::string& sql) const {
   }
 }
 
-std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) const {
+std::string ClickHouseStore::point_condition(const Query& q, const std::string& t, const std::string& alt,
+                                             const std::string& lat, const std::string& lon,
+                                             const std::string& ground) {
   // PointFilter (trails/point_filter.hpp) as SQL: Float32 columns compare as doubles, as there; NaN fails
   // every comparison, as there.
-  std::string w = "dataset = " + ClickHouseClient::quote(ds.id);
-  if (q.t0) w += " AND hour >= " + std::to_string(hour_of(*q.t0)) + " AND t >= " + sql_double(*q.t0);
-  if (q.t1) w += " AND hour <= " + std::to_string(hour_of(*q.t1)) + " AND t < " + sql_double(*q.t1);
-  if (q.alt_min) w += " AND alt >= " + sql_double(*q.alt_min);
-  if (q.alt_max) w += " AND alt <= " + sql_double(*q.alt_max);
-  if ((q.alt_min || q.alt_max) && !(q.alt_min && q.alt_max)) w += " AND NOT isNaN(alt)";
+  std::string w;
+  if (q.t0) w += " AND " + t + " >= " + sql_double(*q.t0);
+  if (q.t1) w += " AND " + t + " < " + sql_double(*q.t1);
+  if (q.alt_min) w += " AND " + alt + " >= " + sql_double(*q.alt_min);
+  if (q.alt_max) w += " AND " + alt + " <= " + sql_double(*q.alt_max);
+  if ((q.alt_min || q.alt_max) && !(q.alt_min && q.alt_max)) w += " AND NOT isNaN(" + alt + ")";
   if (q.bbox) {
     const BBox& b = *q.bbox;
-    w += " AND lat >= " + sql_double(b.south) + " AND lat <= " + sql_double(b.north);
-    w += b.west > b.east ? " AND (lon >= " + sql_double(b.west) + " OR lon <= " + sql_double(b.east) + ")"
-                         : " AND lon >= " + sql_double(b.west) + " AND lon <= " + sql_double(b.east);
+    w += " AND " + lat + " >= " + sql_double(b.south) + " AND " + lat + " <= " + sql_double(b.north);
+    w += b.west > b.east
+             ? " AND (" + lon + " >= " + sql_double(b.west) + " OR " + lon + " <= " + sql_double(b.east) + ")"
+             : " AND " + lon + " >= " + sql_double(b.west) + " AND " + lon + " <= " + sql_double(b.east);
   }
-  if (q.on_ground) w += std::string(" AND on_ground = ") + (*q.on_ground ? "1" : "0");
+  if (q.on_ground) w += " AND " + ground + (*q.on_ground ? " = 1" : " = 0");
+  return w;
+}
+
+std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) const {
+  std::string w = "dataset = " + ClickHouseClient::quote(ds.id);
+  if (q.t0) w += " AND hour >= " + std::to_string(hour_of(*q.t0));
+  if (q.t1) w += " AND hour <= " + std::to_string(hour_of(*q.t1));
+  w += point_condition(q, "t", "alt", "lat", "lon", "on_ground");
   if (!q.icao24.empty() || !q.callsign.empty()) {
     std::string ids;
     const auto& flights = ds.flights();
@@ -651,8 +721,56 @@ Summary ClickHouseStore::summarize(const Dataset& ds, const Query& q, const Summ
     for (std::size_t i = 0; i < fl.size(); ++i)
       if (fl[i] < c.matched.size()) c.matched[fl[i]] = static_cast<std::uint32_t>(fc[i]);
   }
-  // Position jumps follow each flight's samples in order (see the header): on the server's copy.
-  return finish_summary(l, opts, std::move(c), set.flights(), check_quality(*whole(ds)->trails, q));
+  return finish_summary(l, opts, std::move(c), set.flights(),
+                        quality_events_ ? shard_quality(ds, q) : check_quality(*whole(ds)->trails, q));
+}
+
+QualityReport ClickHouseStore::shard_quality(const Dataset& ds, const Query& q) const {
+  // check_quality() over the events stored at ingest (quality_events(): every implausible value with
+  // every point passing): those of the query's flights whose sample, and for a jump the sample before
+  // it, pass its point filter. Counts per kind, and each kind's largest values (LIMIT BY on each shard,
+  // then cut again here, with check_quality()'s order: value descending, then flight id, then time).
+  QualityReport out;
+  const std::string where = point_where(ds, q);
+  if (where.empty()) return out;
+  const std::string prev = point_condition(q, "prev_t", "prev_alt", "prev_lat", "prev_lon", "prev_ground");
+  const std::string w = where + (prev.empty() ? "" : " AND (kind != 2 OR (1" + prev + "))");
+  QualityCount* counts[3] = {&out.speed, &out.altitude, &out.jumps};
+  {
+    const std::string body =
+        read("SELECT kind, count() FROM " + db_ + ".events WHERE " + w + " GROUP BY kind FORMAT RowBinary");
+    RowReader r{body};
+    while (!r.done()) {
+      const auto kind = r.num<std::uint8_t>();
+      const auto n = r.num<std::uint64_t>();
+      if (kind > 2) throw Error(Error::Kind::internal, "store", "ClickHouse: an unknown quality event");
+      counts[kind]->count = n;
+    }
+  }
+  if (!out.speed.count && !out.altitude.count && !out.jumps.count) return out;
+  const std::string body = read("SELECT kind, flight, t, value FROM " + db_ + ".events WHERE " + w +
+                                " ORDER BY kind, value DESC, flight, t LIMIT " +
+                                std::to_string(kQualityExamples) + " BY kind FORMAT RowBinary");
+  RowReader r{body};
+  const auto& flights = ds.flights();
+  while (!r.done()) {
+    const auto kind = r.num<std::uint8_t>();
+    QualityExample e;
+    e.flight_id = r.num<std::uint32_t>();
+    e.t = r.num<double>(), e.value = r.num<double>();
+    if (kind > 2 || e.flight_id >= flights.size())
+      throw Error(Error::Kind::internal, "store", "ClickHouse: a quality event out of range");
+    e.callsign = flights[e.flight_id].callsign;
+    counts[kind]->examples.push_back(std::move(e));
+  }
+  for (QualityCount* c : counts) {
+    std::sort(c->examples.begin(), c->examples.end(), [](const QualityExample& a, const QualityExample& b) {
+      return a.value != b.value ? a.value > b.value
+                                : (a.flight_id != b.flight_id ? a.flight_id < b.flight_id : a.t < b.t);
+    });
+    if (c->examples.size() > kQualityExamples) c->examples.resize(kQualityExamples);
+  }
+  return out;
 }
 
 FlightPage ClickHouseStore::list_flights(const Dataset& ds, const Query& q, std::size_t page,
@@ -737,55 +855,63 @@ Positions ClickHouseStore::positions_at(const Dataset& ds, double t, const Query
   return finish_positions(t, std::move(hits), flights, max_positions);
 }
 
-std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRenderer& renderer,
-                                          const std::string& dataset_key, const Query& q,
-                                          const density::TileRequest& request) const {
+std::optional<density::Aggregate> ClickHouseStore::shard_aggregate(const Dataset& ds, const Query& q,
+                                                                   const density::Canvas& work,
+                                                                   density::DensityValue value,
+                                                                   double max_gap_seconds) const {
   namespace den = trailscope::density;
-  // Pushed down: count tiles drawing every segment (no gap limit) of datasets without a flight across
-  // 180° (whose wrapped copies the SQL does not draw), under flight filters (icao24, callsign: a matching
-  // flight is drawn whole) and a time window (see below), smoothed or not. Point filters on altitude,
-  // position or ground state, and altitude/speed values, are drawn from the fetched copy.
-  den::validate(request);
+  // On the shards: datasets without a flight across 180° (whose segments' wrapped copies the SQL does
+  // not draw), on a canvas within a world of the world's x range. A time window needs prev_t; point
+  // filters, values and a gap limit need the segments' point attributes (a database made before them
+  // draws from the copy).
   const bool point_filter = q.alt_min || q.alt_max || q.bbox || q.on_ground;
   const bool window = q.t0 || q.t1;
-  const int grow = static_cast<int>(std::ceil(request.kernel_radius));
-  const den::Canvas canvas = den::Canvas::for_tile(request.tile, request.size);
-  const den::Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
+  const bool valued = value != den::DensityValue::count;
+  const bool gap = std::isfinite(max_gap_seconds);
   bool wraps = false;
   for (const Flight& f : ds.flights()) wraps = wraps || f.crosses_antimeridian;
-  if (point_filter || wraps || (window && !segment_prev_t_) || request.value != den::DensityValue::count ||
-      std::isfinite(request.max_gap_seconds) || work.origin_x() < 0 ||
-      work.end_x() > (std::int64_t{1} << 32) || !pushable(ds))
-    return LocalReads{}.density_tile(*whole(ds), renderer, dataset_key, q, request);
-  // The level's span: from the fetched copy once per zoom, then from the renderer's cache.
-  const std::shared_ptr<const den::SpanStats> span =
-      renderer.span_for(*whole(ds)->trails, dataset_key, q, request);
-  den::Aggregate agg = den::Aggregate::zeros(work.width(), work.height(), false);
+  if (wraps || (window && !segment_prev_t_) || ((point_filter || valued || gap) && !segment_attrs_) ||
+      !pushable(ds))
+    return std::nullopt;
+  // Beyond the world's x range (a canvas across 180°, or a kernel's margin at the world's edge) the
+  // canvas also shows the segments' copies one world east or west, as density_lines() draws them: the
+  // canvas and the three copies move one world east, so that every coordinate stays non-negative (intDiv
+  // truncates) and on the same pixel grid (the pixel divides 2^32).
+  constexpr std::int64_t W = std::int64_t{1} << 32;
+  const std::int64_t P = work.pixel_units();
+  const bool beyond = work.origin_x() < 0 || work.end_x() > W;
+  if (beyond && (work.origin_x() < -W || work.end_x() > 2 * W || W % P != 0)) return std::nullopt;
+  den::Aggregate agg = den::Aggregate::zeros(work.width(), work.height(), valued);
 
-  // The pixels of each segment as density_lines() walks them on the work canvas (the tile and the
-  // kernel's margin), counted on the shards: the SQL of clickhouse_tile_sql.hpp (the tile benchmark's
-  // ClickHouse peer runs the same builder). A segment that continues a drawn run leaves out the pixel of
-  // its first endpoint. Within a window [t0, t1) a segment is drawn when both its points are in it, and it
-  // continues a run when the point before its first is too (prev_t; NaN for a flight's first point,
-  // which no comparison passes); without one, when it is not its flight's first.
-  const std::int64_t P = work.pixel_units(), x0 = work.origin_x(), y0 = work.origin_y();
+  // The pixels of each segment as density_lines() walks them on `work`, counted on the shards: the SQL
+  // of clickhouse_tile_sql.hpp (the tile benchmark's ClickHouse peer runs the same builder). A segment is
+  // drawn when both its points pass the query's point filter and t1 − t0 <= the gap; it continues a
+  // drawn run (leaving out the pixel of its first endpoint) when the segment before it was drawn: its
+  // first point, which passes, and the point before it pass, and that step is within the gap (prev_*:
+  // NaN prev_t for a flight's first point, which no comparison passes). These are exactly the run breaks
+  // density_lines() makes, since a flight's samples are in time order.
+  const std::int64_t shift = beyond ? W : 0, x0 = work.origin_x() + shift, x_end = work.end_x() + shift,
+                     y0 = work.origin_y();
   const LineTileGrid grid{P, x0 / P, y0 / P, work.width(), work.height()};
-  std::string where = "dataset = " + ClickHouseClient::quote(ds.id) +
-                      " AND greatest(x0, x1) >= " + std::to_string(x0) + " AND least(x0, x1) < " +
-                      std::to_string(work.end_x()) + " AND greatest(y0, y1) >= " + std::to_string(y0) +
-                      " AND least(y0, y1) < " + std::to_string(work.end_y());
+  const std::string meets_x = " AND greatest(x0, x1)" + std::string(beyond ? " + sh_" : "") +
+                              " >= " + std::to_string(x0) + " AND least(x0, x1)" + (beyond ? " + sh_" : "") +
+                              " < " + std::to_string(x_end);
+  std::string where = "dataset = " + ClickHouseClient::quote(ds.id) + (beyond ? "" : meets_x) +
+                      " AND greatest(y0, y1) >= " + std::to_string(y0) + " AND least(y0, y1) < " +
+                      std::to_string(work.end_y());
+  // `hour` (the first point's) bounds the table's prefix.
+  if (q.t0) where += " AND hour >= " + std::to_string(hour_of(*q.t0));
+  if (q.t1) where += " AND hour <= " + std::to_string(hour_of(*q.t1));
+  where += point_condition(q, "t0", "alt0", "lat0", "lon0", "g0") +
+           point_condition(q, "t1", "alt1", "lat1", "lon1", "g1");
   std::string cont;
   if (segment_prev_t_) {
-    cont = "NOT isNaN(prev_t)";
-    // Both points in the window; `hour` (the first point's) bounds the table's prefix.
-    if (q.t0)
-      where += " AND t0 >= " + sql_double(*q.t0) + " AND t1 >= " + sql_double(*q.t0) +
-               " AND hour >= " + std::to_string(hour_of(*q.t0)),
-          cont += " AND prev_t >= " + sql_double(*q.t0);
-    if (q.t1)
-      where += " AND t0 < " + sql_double(*q.t1) + " AND t1 < " + sql_double(*q.t1) +
-               " AND hour <= " + std::to_string(hour_of(*q.t1)),
-          cont += " AND prev_t < " + sql_double(*q.t1);
+    cont =
+        "NOT isNaN(prev_t)" + point_condition(q, "prev_t", "prev_alt", "prev_lat", "prev_lon", "prev_ground");
+    if (gap) {
+      where += " AND t1 - t0 <= " + sql_double(max_gap_seconds);
+      cont += " AND t0 - prev_t <= " + sql_double(max_gap_seconds);
+    }
   } else {
     std::string begins;
     for (const Flight& f : ds.flights()) begins += (begins.empty() ? "" : ",") + std::to_string(f.begin);
@@ -798,9 +924,17 @@ std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRen
       if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
     where += " AND flight IN (" + (ids.empty() ? std::string("4294967295") : ids) + ")";
   }
-  const std::string sql = line_tile_sql(grid, cont, "toInt64(x0)", "toInt64(y0)", "toInt64(x1)",
-                                        "toInt64(y1)", "FROM " + db_ + ".segments WHERE " + where) +
-                          " FORMAT RowBinary";
+  const bool alt = value == den::DensityValue::altitude;
+  const std::string sql =
+      line_tile_sql(grid, cont, beyond ? "toInt64(x0) + sh_" : "toInt64(x0)", "toInt64(y0)",
+                    beyond ? "toInt64(x1) + sh_" : "toInt64(x1)", "toInt64(y1)",
+                    beyond ? "FROM (SELECT *, arrayJoin([toInt64(0), toInt64(" + std::to_string(W) +
+                                 "), toInt64(" + std::to_string(2 * W) + ")]) AS sh_ FROM " + db_ +
+                                 ".segments WHERE " + where + ") WHERE 1" + meets_x
+                           : "FROM " + db_ + ".segments WHERE " + where,
+                    valued ? (alt ? "toInt64(v_alt)" : "toInt64(v_speed)") : "",
+                    valued ? (alt ? "bitAnd(v_flags, 1) != 0" : "bitAnd(v_flags, 2) != 0") : "") +
+      " FORMAT RowBinary";
   const std::string body = read(sql);
   RowReader r{body};
   while (!r.done()) {
@@ -809,12 +943,41 @@ std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRen
     if (pos >= agg.count.size())
       throw Error(Error::Kind::internal, "store", "ClickHouse: a pixel outside the tile");
     agg.count[pos] = static_cast<std::int32_t>(n);
+    if (valued) {
+      agg.value_sum[pos] = r.num<std::int64_t>();
+      agg.value_count[pos] = static_cast<std::int32_t>(r.num<std::uint32_t>());
+    }
   }
+  return agg;
+}
+
+std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRenderer& renderer,
+                                          const std::string& dataset_key, const Query& q,
+                                          const density::TileRequest& request) const {
+  namespace den = trailscope::density;
+  // Pushed down as shard_aggregate() says: the tile's aggregate on the work canvas (the tile plus the
+  // kernel's margin), and the level's shared span, whose coarse aggregate the same SQL counts on the
+  // coarse canvas (computed once per zoom and cached by the renderer); the server smooths and shades
+  // through finish_aggregate() and shade_tile(), the code render_tile() finishes with.
+  den::validate(request);
+  const int grow = static_cast<int>(std::ceil(request.kernel_radius));
+  const den::Canvas canvas = den::Canvas::for_tile(request.tile, request.size);
+  const den::Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
+  std::optional<den::Aggregate> agg = shard_aggregate(ds, q, work, request.value, request.max_gap_seconds);
+  if (!agg) return LocalReads{}.density_tile(*whole(ds), renderer, dataset_key, q, request);
+  // The coarse canvas may lie beyond the world's x range (a margin at its edge) where the tile does not:
+  // that aggregate is then drawn from the copy.
+  const den::CoarseAggregateFn coarse = [&](const den::Canvas& c, den::DensityValue value, double gap) {
+    if (auto a = shard_aggregate(ds, q, c, value, gap)) return std::move(*a);
+    return den::aggregate_lines(*whole(ds)->trails, q, c, value, gap, request.backend);
+  };
+  const std::shared_ptr<const den::SpanStats> span =
+      renderer.span_for(ds.shape(), dataset_key, q, request, coarse);
   den::AggregateOptions options;
   options.value = request.value;
   options.kernel_radius = request.kernel_radius;
   options.max_gap_seconds = request.max_gap_seconds;
-  return std::move(den::shade_tile(den::finish_aggregate(agg, work, options), *span, request).png);
+  return std::move(den::shade_tile(den::finish_aggregate(*agg, work, options), *span, request).png);
 }
 
 void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,

@@ -10,15 +10,26 @@
 //                   no mortonEncode) and `hour` = floor(t / 3600). PARTITION BY dataset, ORDER BY (hour,
 //                   morton): a time window reads only its hours, a tile only its Morton ranges within them.
 //   segments_local  one row per pair of consecutive points of a flight: the first point's idx, t0, t1,
-//                   x0, y0, x1, y1 (UInt32 Web Mercator), the first point's morton and hour, and prev_t,
-//                   the time of the point before the first (NaN for a flight's first segment: whether a
-//                   windowed tile continues a run there); same layout. A database made before prev_t
-//                   draws windowed tiles from a fetched copy.
+//                   x0, y0, x1, y1 (UInt32 Web Mercator), the first point's morton and hour, prev_t, the
+//                   time of the point before the first (NaN for a flight's first segment); what PointFilter
+//                   reads of both points and of the one before: alt0, alt1, prev_alt, lat0, lat1, prev_lat,
+//                   lon0, lon1, prev_lon (Float32; NaN before a flight's first), g0, g1, prev_ground
+//                   (UInt8); and the segment's fixed-point altitude and speed values exactly as
+//                   density_lines() computes them (segment_value, to_fixed): v_alt, v_speed (Int32), v_flags
+//                   (UInt8: bit 0 an altitude value, bit 1 a speed value). Same layout. A database made
+//                   before prev_t draws windowed tiles from a fetched copy, one made before the point
+//                   attributes its tiles with values, point filters or a gap limit.
+//   events_local    one row per implausible value quality_events() finds (trails/quality.hpp): flight,
+//                   kind (0 speed, 1 altitude, 2 jump), value, the sample's t, alt, lat, lon, on_ground and
+//                   hour, and for a jump the sample before it (prev_t, prev_alt, prev_lat, prev_lon,
+//                   prev_ground); same layout, ORDER BY (hour, flight). A database made before it computes
+//                   the summary's quality block on a fetched copy.
 //   flights_local   one row per flight: its index, point range [begin, end), icao24, callsign and the
 //                   extents compute_extents() gives it (t_min, t_max, lat/lon/alt min and max, whether it
 //                   crosses 180°). A database made before these columns existed is read as before: its
 //                   datasets are described from a fetched copy.
-//   points, segments, flights   Distributed over the *_local tables, sharded by intHash32(flight).
+//   points, segments, flights, events   Distributed over the *_local tables, sharded by
+//                   intHash32(flight).
 //   catalogue       ReplicatedMergeTree replicated on every node: one row per change of a dataset (id,
 //                   version, deleted, name, format, created, owner, ingest report as JSON, points,
 //                   flights); a dataset is the row of its highest version, visible unless `deleted`.
@@ -34,8 +45,8 @@
 // addresses and extents, written at ingest): the dataset object, the flight list and the positions need
 // nothing more. get() fetches a dataset's rows back into a TrailSet identical to what was put, for the
 // computations that follow every point (the routes without push-down below: flight GeoJSON, bundles,
-// exports, animation, flow and congestion maps, the density legend and tiles with a filter, the summary's
-// data-quality block); the last kKeptCopies fetched are kept in memory, so the server holds at most that
+// exports, animation, flow and congestion maps, the density legend, and the tiles of a dataset with a
+// flight across 180°); the last kKeptCopies fetched are kept in memory, so the server holds at most that
 // many copies beside the ones requests in flight still use.
 //
 // Push-down: the scans over points run on the shards, as SQL over the Distributed tables, and the server
@@ -44,10 +55,12 @@
 //  - summarize(): one query gives the counts, first/last time, the speed count/sum/min/max and, with
 //    sumMap, the time, altitude and speed histograms (bins computed in SQL with the same IEEE double
 //    operations as trails/summary.cpp: see SummaryCounts) and the matching points per flight; the server
-//    finishes with finish_summary() (percentiles, mean, top callsigns). Not pushed down: the data-quality
-//    block's position jumps, which follow each flight's samples in order from the time a position was first
-//    reported (a running state per flight; ClickHouse 18.16 has no window functions): check_quality() runs
-//    on the server's copy. The speed mean is the SQL sum divided by the count: it equals the embedded
+//    finishes with finish_summary() (percentiles, mean, top callsigns). The data-quality block counts the
+//    events stored at ingest (their position jumps follow each flight's samples in order from the time a
+//    position was first reported, a running state ClickHouse 18.16 cannot keep without window functions)
+//    whose sample, and for a jump the sample before it, pass the point filter, of the flights passing the
+//    flight filters: one GROUP BY kind and the largest values per kind (LIMIT BY), exactly what
+//    check_quality() reports. The speed mean is the SQL sum divided by the count: it equals the embedded
 //    store's to the bit whenever the double sum is exact whatever the order (speeds of at least 2 m/s
 //    summing below 2^31 m/s, as on real traffic days); otherwise the two differ in the last bits, as two runs
 //    of the embedded store's parallel sum may.
@@ -63,31 +76,38 @@
 //  matched on the server against the flight table (a list of flight ids in WHERE), since callsign_matches()'
 //  patterns are not LIKE's. A dataset whose flights do not cover its points one to one (never made by the
 //  ingest) falls back to the computation on the server's copy.
-//  - density_tile(): count tiles that draw every segment (no gap limit) of a dataset without a flight
-//    across 180°, unfiltered or under a time window, icao24/callsign filters and a kernel: one query over
-//    the segment table gives each pixel's count on the work canvas (the tile plus the kernel's margin),
-//    the pixels of each segment enumerated in exact integer arithmetic as density_lines() walks them (the
-//    SQL of clickhouse_tile_sql.hpp, which the tile benchmark checks pixel for pixel against
+//  - density_tile(): every tile of a dataset without a flight across 180°, under any query (time window,
+//    altitude band, bbox, on_ground, icao24/callsign), any value (count, altitude, speed), gap and
+//    kernel: one query over the segment table gives each pixel's count (and the sum and count of the
+//    segments' fixed-point values) on the work canvas (the tile plus the kernel's margin), the pixels of
+//    each segment enumerated in exact integer arithmetic as density_lines() walks them (the SQL of
+//    clickhouse_tile_sql.hpp, which the tile benchmark checks pixel for pixel against
 //    density_lines_ref); the first pixel of a segment that continues a drawn run is left out. A flight
-//    filter keeps or drops a flight whole (flight IN (...)); under a window [t0, t1) a segment is drawn
-//    when both its points lie in it, and continues a run when the point before it does too (its stored
-//    prev_t), exactly the run breaks density_lines() makes, since a flight's samples are in time order.
-//    The server smooths and shades through finish_aggregate() and shade_tile() with the level's shared
-//    span (computed once per zoom on the fetched copy and cached by the renderer). Drawn from the copy:
-//    altitude/speed values, and altitude, bbox and on_ground filters (whether a segment is drawn and where
-//    a run breaks depend on both samples' values and the previous one's, which the segment rows do not
-//    hold; no window functions in 18.16), and segments across 180° (wrapped copies).
-// Not pushed down: the legend (the span), bundles, flight GeoJSON, exports, animation, picking, congestion
-// and flow maps: they follow every sample of the flights they draw and read the copy get() fetches.
+//    filter keeps or drops a flight whole (flight IN (...)); a segment is drawn when both its points pass
+//    the point filter (their stored attributes) and t1 − t0 <= the gap, and continues a run when the
+//    point before it passes too and that step is within the gap (prev_*), exactly the run breaks
+//    density_lines() makes, since a flight's samples are in time order. The level's shared span comes
+//    from the same query on the coarse canvas of the renderer's plan (DensityRenderer::span_for with a
+//    CoarseAggregateFn; the data extent from the flight table's extents), computed once per zoom and
+//    cached by the renderer; a canvas beyond the world's x range (a bbox across 180°, a margin at the
+//    world's edge) sees the segments' copies one world east and west. The server smooths and shades
+//    through finish_aggregate() and shade_tile(). Drawn from the copy: datasets with a flight across 180°
+//    (its segments' wrapped copies: a segment's pixels then depend on which world copy meets the canvas,
+//    which the SQL does not enumerate).
+// Not pushed down: the density legend route, bundles, flight GeoJSON, exports, animation, picking,
+// congestion and flow maps: they follow every sample of the flights they draw and read the copy get()
+// fetches.
 #include <atomic>
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 
 #include "store/clickhouse_client.hpp"
 #include "store/dataset_reads.hpp"
 #include "store/dataset_store.hpp"
 #include "store/embedded_store.hpp"
+#include "trailscope/trails/quality.hpp"
 
 namespace trailscope::server {
 
@@ -162,6 +182,18 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   /// The SQL condition on the points table of `ds` for the point filter and flight filters of `q`; ""
   /// when no point can match (a flight filter no flight passes).
   std::string point_where(const Dataset& ds, const Query& q) const;
+  /// PointFilter of `q` as SQL over the columns named (time, altitude, latitude, longitude, ground
+  /// state): " AND ..." per condition, "" without a point filter.
+  static std::string point_condition(const Query& q, const std::string& t, const std::string& alt,
+                                     const std::string& lat, const std::string& lon,
+                                     const std::string& ground);
+  /// check_quality() of `q` over the quality events stored at ingest (needs quality_events_).
+  QualityReport shard_quality(const Dataset& ds, const Query& q) const;
+  /// The density_lines() aggregate of `q`'s segments of `ds` on `work` with `value` and the gap, counted
+  /// on the shards; nullopt when they cannot count it (see the header's "Push-down").
+  std::optional<density::Aggregate> shard_aggregate(const Dataset& ds, const Query& q,
+                                                    const density::Canvas& work, density::DensityValue value,
+                                                    double max_gap_seconds) const;
   /// Whether the queries can run on the shards for `ds` (its flights cover its points one to one).
   static bool pushable(const Dataset& ds);
   /// Runs a push-down SELECT. The client already moves to the next node of the URL when the one it asks
@@ -189,6 +221,8 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   std::map<std::string, Meta> catalogue_;  ///< the visible datasets
   bool flight_extents_ = true;             ///< flights_local has the extent columns
   bool segment_prev_t_ = true;             ///< segments_local has prev_t
+  bool segment_attrs_ = true;              ///< segments_local has the point attributes and values
+  bool quality_events_ = true;             ///< the events tables exist
   mutable std::map<std::string, std::shared_ptr<const Dataset>> outlines_;
   mutable std::vector<std::shared_ptr<const Dataset>> loaded_;  ///< kKeptCopies at most, newest first
   mutable std::atomic<std::uint64_t> fetches_{0};

@@ -149,6 +149,42 @@ TEST(Renderer, ZoomsAboveTheCoarseLevelShareItsAggregate) {
   EXPECT_EQ(r7->cdf, s7.cdf);
 }
 
+TEST(Renderer, ACoarseAggregateCountedElsewhereGivesTheSameSpan) {
+  // A store that counts the coarse aggregate itself (CoarseAggregateFn) and knows only the flights'
+  // extents gets the span estimate_span() computes on the points, and the zooms above the coarse level
+  // share that one count.
+  const TrailSet& full = synthetic();
+  const TrailSet outline(PointColumns{}, full.flights());
+  Query q;
+  q.bbox = BBox{full.lon_min() + 0.1, full.lat_min(), full.lon_max(), full.lat_max() - 0.1};
+  for (const DensityValue value : {DensityValue::count, DensityValue::altitude})
+    for (const int kernel : {0, 3}) {
+      DensityRenderer renderer;
+      int counted = 0;
+      const CoarseAggregateFn coarse = [&](const Canvas& work, DensityValue v, double gap) {
+        ++counted;
+        return aggregate_lines(full, q, work, v, gap, Backend::cpu);
+      };
+      for (const int z : {4, 7, 8}) {
+        TileRequest r = request(TileId{z, 0, 0});
+        r.value = value, r.kernel_radius = kernel;
+        const auto span = renderer.span_for(outline, "outline", q, r, coarse);
+        const SpanStats want = estimate_span(full, q, value, z, 256, kernel, r.max_gap_seconds, Backend::cpu);
+        EXPECT_EQ(span->cdf_values, want.cdf_values) << "z " << z << " kernel " << kernel;
+        EXPECT_EQ(span->cdf, want.cdf);
+        EXPECT_EQ(span->lo, want.lo);
+        EXPECT_EQ(span->hi, want.hi);
+      }
+      EXPECT_EQ(counted, kernel == 0 ? 2 : 3) << "zooms 7 and 8 share the coarse aggregate of zoom 5";
+    }
+  // An aggregate of another size is refused.
+  DensityRenderer renderer;
+  const CoarseAggregateFn wrong = [](const Canvas&, DensityValue, double) {
+    return Aggregate::zeros(3, 3, false);
+  };
+  EXPECT_THROW(renderer.span_for(outline, "o", Query{}, request(TileId{5, 0, 0}), wrong), Error);
+}
+
 TEST(Renderer, SpanIsExactWhereTheExtentFits) {
   // At zoom 2 the whole world is 1024 px, so the span is computed from the very pixels of the tiles:
   // it must equal the span of all 16 tiles' counts put together.

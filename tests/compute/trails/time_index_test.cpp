@@ -184,6 +184,58 @@ TEST_F(EuropeIndex, QualityEqualsTheScan) {
   EXPECT_GT(all.jumps.count + all.speed.count, 0u);
   check_quality_windows(europe());
 }
+TEST_F(EuropeIndex, QualityEventsUnderAQueryAreCheckQuality) {
+  // quality_events() (what a store keeps to answer the quality block without the points), filtered here
+  // by a filter written out plainly, against check_quality()'s own pass under the query.
+  const TrailSet& set = europe();
+  const auto events = quality_events(set);
+  ASSERT_GT(events.size(), 0u);
+  const auto& p = set.points();
+  const double mid = std::floor((set.t_min() + set.t_max()) / 2);
+  std::vector<Query> queries(6);
+  queries[1].t0 = mid - 3 * 3600, queries[1].t1 = mid;
+  queries[2].alt_min = 9000;
+  queries[3].alt_max = 3000, queries[3].on_ground = false;
+  queries[4].bbox = BBox{-5, 40, 10, 55};
+  queries[5].callsign = {"A*"}, queries[5].alt_min = 1000, queries[5].alt_max = 12000;
+  int nonempty = 0;
+  for (const Query& q : queries) {
+    auto passes = [&](std::uint32_t i) {
+      const double a = p.alt[i], lat = p.lat[i], lon = p.lon[i];
+      return (!q.t0 || p.t[i] >= *q.t0) && (!q.t1 || p.t[i] < *q.t1) && (!q.alt_min || a >= *q.alt_min) &&
+             (!q.alt_max || a <= *q.alt_max) && (!(q.alt_min || q.alt_max) || !std::isnan(a)) &&
+             (!q.on_ground || (p.on_ground[i] != 0) == *q.on_ground) &&
+             (!q.bbox ||
+              (lat >= q.bbox->south && lat <= q.bbox->north && lon >= q.bbox->west && lon <= q.bbox->east));
+    };
+    std::uint64_t n[3] = {0, 0, 0};
+    std::vector<QualityExample> ex[3];
+    for (const QualityEvent& e : events)
+      if (q.matches_flight_ids(set.flights()[e.flight]) && passes(e.point) &&
+          (e.kind != 2 || passes(e.point - 1))) {
+        ++n[e.kind];
+        ex[e.kind].push_back({e.flight, set.flights()[e.flight].callsign, p.t[e.point], e.value});
+      }
+    const QualityReport r = check_quality(set, q);
+    const QualityCount* counts[3] = {&r.speed, &r.altitude, &r.jumps};
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(counts[k]->count, n[k]) << q.canonical() << " kind " << k;
+      std::sort(ex[k].begin(), ex[k].end(), [](const QualityExample& a, const QualityExample& b) {
+        return a.value != b.value ? a.value > b.value
+                                  : (a.flight_id != b.flight_id ? a.flight_id < b.flight_id : a.t < b.t);
+      });
+      if (ex[k].size() > kQualityExamples) ex[k].resize(kQualityExamples);
+      ASSERT_EQ(counts[k]->examples.size(), ex[k].size()) << q.canonical();
+      for (std::size_t i = 0; i < ex[k].size(); ++i) {
+        EXPECT_EQ(counts[k]->examples[i].flight_id, ex[k][i].flight_id);
+        EXPECT_EQ(counts[k]->examples[i].t, ex[k][i].t);
+        EXPECT_EQ(counts[k]->examples[i].value, ex[k][i].value);
+      }
+    }
+    nonempty += n[0] + n[1] + n[2] > 0;
+  }
+  EXPECT_GE(nonempty, 4);
+}
 TEST_F(EuropeIndex, TilesEqualTheFullWalk) {
   check_tiles(europe(), {-10, 35, 30, 60});
 }

@@ -73,6 +73,11 @@ const char* to_string(DensityValue v) noexcept;
 
 /// Fixed-point scale of per-segment values (1/256 m or 1/256 m/s).
 inline constexpr double kValueScale = 256.0;
+/// A segment's value from its endpoints' values (see VALUES): their mean, the known one when the other is
+/// NaN, NaN when both are.
+double segment_value(float a, float b);
+/// A value as the aggregate sums it: round(v · kValueScale) (ties to even), clamped to int32. v not NaN.
+std::int32_t to_fixed(double v);
 
 /// Where an op ran.
 enum class ComputePath { cpu, opencl };

@@ -13,8 +13,11 @@
 // the same factor; means are not scaled. Traffic converging on a point (an airport) does not thin out
 // with zoom, so above L_s such pixels exceed the estimated span and take the top colour — as they would
 // near the top of an exact eq_hist anyway. Either way every tile of the level gets the same span, which
-// is what keeps neighbouring tiles seamless. The span is computed on the request's backend.
+// is what keeps neighbouring tiles seamless. The span is computed on the request's backend, or from a
+// coarse aggregate a store counts where its rows are (span_for with a CoarseAggregateFn: the same plan,
+// finishing and cache).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -80,6 +83,14 @@ Image render_canvas(const TrailSet& trails, const Query& query, const Canvas& ca
 SpanStats estimate_span(const TrailSet& trails, const Query& query, DensityValue value, int z, int tile_size,
                         int kernel_radius, double max_gap_seconds, Backend backend);
 
+/// The coarse aggregate of a span counted elsewhere (a database's shards: server/src/store/
+/// clickhouse_store.cpp): given `work`, the coarse canvas grown by the kernel's margin exactly as
+/// aggregate() grows a canvas, and the request's value and gap, the density_lines() Aggregate of the
+/// query's segments on it (work.width() x work.height(), values when `value` is not count). What it throws
+/// propagates (and is not cached).
+using CoarseAggregateFn =
+    std::function<Aggregate(const Canvas& work, DensityValue value, double max_gap_seconds)>;
+
 /// Renders tiles and owns the span caches (LRU, thread-safe; concurrent requests for a span being
 /// computed wait for that computation instead of repeating it; failures are not cached). Two levels:
 /// the span of each (dataset, query, value, zoom, size, kernel, gap), and beneath it the unscaled span of
@@ -103,6 +114,14 @@ class DensityRenderer {
   std::shared_ptr<const SpanStats> span_for(const TrailSet& trails, const std::string& dataset_key,
                                             const Query& query, const TileRequest& request,
                                             bool* cached = nullptr);
+  /// span_for() with the coarse aggregate counted by `coarse` instead of on points: `extent` gives only
+  /// the data extent (its flights' extents and whether one crosses 180°, so a set of flights without
+  /// points, as a store's outline of a dataset, serves). Same plan, same finishing, same cache entries as
+  /// span_for(trails, ...) of the set whose flights `extent` holds: the two overloads share their spans.
+  /// Also throws Error(internal) when `coarse` answers an aggregate of another size.
+  std::shared_ptr<const SpanStats> span_for(const TrailSet& extent, const std::string& dataset_key,
+                                            const Query& query, const TileRequest& request,
+                                            const CoarseAggregateFn& coarse, bool* cached = nullptr);
 
   /// The legend of the tiles `request` describes (legend.hpp): their level's cached span, shaded as
   /// render_tile shades (how, cmap, effective_min_level). request.tile's x and y do not matter. Throws as
@@ -117,6 +136,9 @@ class DensityRenderer {
 
  private:
   class Cache;
+  std::shared_ptr<const SpanStats> span_of(const TrailSet& trails, const std::string& dataset_key,
+                                           const Query& query, const TileRequest& request,
+                                           const CoarseAggregateFn* counted, bool* cached);
   std::unique_ptr<Cache> spans_, coarse_;
 };
 

@@ -87,6 +87,20 @@ struct QualityReport {
 /// The implausible values among the points of `set` that pass `q` (PointFilter); a jump counts when
 /// both of its samples pass. One parallel pass over the flights the query may match.
 QualityReport check_quality(const TrailSet& set, const Query& q);
+/// One implausible value as check_quality() finds it with every point passing.
+struct QualityEvent {
+  std::uint32_t flight = 0;  ///< id in the TrailSet
+  std::uint32_t point = 0;   ///< index of the sample (of a jump: the sample after it; point − 1 is before)
+  std::uint8_t kind = 0;     ///< 0 speed, 1 altitude, 2 jump
+  double value = 0;          ///< m/s or metres, as check_quality() reports it
+};
+/// Every implausible value of `set` (check_quality() with no filter), flight by flight in point order.
+/// check_quality(set, q) counts exactly those of flights passing q's flight filters whose sample (and, for
+/// a jump, the sample before it) passes q's PointFilter: a jump's value does not depend on the query, and
+/// a point passing PointFilter lies within its flight's extents, so Query::may_match() decides nothing
+/// more. What a store keeps to answer the quality block without the points (server/src/store/
+/// clickhouse_store.cpp). One parallel pass.
+std::vector<QualityEvent> quality_events(const TrailSet& set);
 /// check_quality() for a time window only, [t0, t1) (±infinity for an open side): read from the set's
 /// time index (time_index.hpp), which lists every implausible value at construction, so the cost is the
 /// events in the window, not its points; the plain pass when the set has no such index. Same answer.
