@@ -442,7 +442,10 @@ void read_smi(std::string_view text, Ctx& c) {
         if (n == "R POR X [px]") rx = long(i);
         if (n == "R POR Y [px]") ry = long(i);
       }
-      if (!ty || !tt || ((lx < 0 || ly < 0) && (rx < 0 || ry < 0)))
+      // An eye counts only with both of its columns (one without the other is read as neither).
+      if (lx < 0 || ly < 0) lx = ly = -1;
+      if (rx < 0 || ry < 0) rx = ry = -1;
+      if (!ty || !tt || (lx < 0 && rx < 0))
         damaged(lines.number, "the table header lacks Type, Trial or a POR X/Y [px] pair");
       header = true;
       continue;

@@ -194,6 +194,26 @@ TEST(GazeIngest, SmiIdfText) {
   EXPECT_DOUBLE_EQ(r.t_ms[0], 2152092084 / 1000.0);
 }
 
+TEST(GazeIngest, SmiEyeWithOneColumnIsNoEye) {
+  // A right eye with its X column but not its Y: the left pair is read (found by the fuzzer: the right
+  // eye's missing Y column was indexed as -1).
+  const std::string head = "## [iView]\n## Sample Rate:\t50\n";
+  const GazeDataset ds = read_gaze(head +
+                                   "Time\tType\tTrial\tR POR X [px]\tL POR X [px]\tL POR Y [px]\n"
+                                   "1000\tSMP\t1\t5.5\t100.5\t200.25\n"
+                                   "21000\tSMP\t1\t6.5\t101.5\t201.25\n");
+  ASSERT_EQ(ds.recordings.size(), 1u);
+  const Recording& r = ds.recordings[0];
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.x[0], 100.5);
+  EXPECT_DOUBLE_EQ(r.y[1], 201.25);
+  // Neither eye whole: refused.
+  const Error e = error_of([&] { read_gaze(head + "Time\tType\tTrial\tR POR X [px]\tL POR Y [px]\n"); });
+  EXPECT_NE(std::string(e.what()).find("the table header lacks Type, Trial or a POR X/Y [px] pair"),
+            std::string::npos)
+      << e.what();
+}
+
 // --- Tobii --------------------------------------------------------------------------------------------
 
 TEST(GazeIngest, TobiiSdkBothEyesAndValidity) {
