@@ -231,9 +231,9 @@ int expect_same_answers(const Side& a, const Side& b, const std::string& id, con
       {"/tiles/" + id + "/density/4/8/5.png", {{"kernel", "2"}}},
       {"/tiles/" + id + "/density/4/8/5.png", {{"value", "altitude"}}},
       {"/tiles/" + id + "/density/4/8/5.png", {{"alt_min", "20000"}}},
-      // Every other read route of a dataset: tiles with each kind of filter and value, the density legend,
-      // flight GeoJSON, animation, picking, exports, congestion and flow maps (answered from the copy the
-      // ClickHouse store fetches, see store/clickhouse_store.hpp).
+      // Every other read route of a dataset: tiles with each kind of filter and value, the density legend
+      // (these two on the shards), flight GeoJSON, animation, picking, exports, congestion and flow maps
+      // (answered from the copy the ClickHouse store fetches, see store/clickhouse_store.hpp).
       {"/tiles/" + id + "/density/4/8/5.png", {{"callsign", "A*"}}},
       {"/tiles/" + id + "/density/5/16/10.png",
        {{"t0", num(mid - 7200)}, {"t1", num(mid)}, {"callsign", "A*"}, {"kernel", "1"}}},
@@ -400,7 +400,20 @@ void compare_backends(std::shared_ptr<Dataset> ds, const char* label, bool has_i
       drawn += ra.bytes().size() > 1000;  // more than a transparent tile
     }
     EXPECT_GE(drawn, 7) << "too few of the compared tiles show data";
-    if (!wraps) EXPECT_EQ(lazy->fetched_copies(), 0u) << "a density tile fetched the dataset";
+    // Their legends, from the same spans: the same bytes, no copy.
+    for (const auto& [z, q] : std::vector<std::pair<std::string, std::map<std::string, std::string>>>{
+             {"4", {{"value", "altitude"}}},
+             {"3", {{"value", "speed"}, {"kernel", "1"}, {"size", "512"}}},
+             {"4", {{"alt_min", "20000"}, {"alt_max", "36000"}, {"stops", "5"}}},
+             {"5", {{"t0", m1}, {"t1", m}, {"how", "log"}}}}) {
+      auto with_z = q;
+      with_z["z"] = z;
+      const Response ra = e.get("/api/v1/datasets/" + ds->id + "/density/legend", with_z),
+                     rb = l.get("/api/v1/datasets/" + ds->id + "/density/legend", with_z);
+      EXPECT_EQ(ra.status, 200) << ra.bytes().substr(0, 300);
+      EXPECT_EQ(ra.bytes(), rb.bytes()) << "z " << z << ": the backends' legends differ";
+    }
+    if (!wraps) EXPECT_EQ(lazy->fetched_copies(), 0u) << "a density tile or legend fetched the dataset";
     // Summaries, their data-quality block included (the implausible values stored at ingest), under
     // every kind of filter: computed on the shards, no point fetched.
     const std::size_t before = lazy->fetched_copies();

@@ -354,10 +354,21 @@ TileResult shade_tile(const AggregateResult& res, const SpanStats& span, const T
 
 Legend DensityRenderer::legend(const TrailSet& trails, const std::string& dataset_key, const Query& query,
                                const TileRequest& request, int stops) {
+  return legend_of(trails, dataset_key, query, request, stops, nullptr);
+}
+
+Legend DensityRenderer::legend(const TrailSet& extent, const std::string& dataset_key, const Query& query,
+                               const TileRequest& request, int stops, const CoarseAggregateFn& coarse) {
+  return legend_of(extent, dataset_key, query, request, stops, &coarse);
+}
+
+Legend DensityRenderer::legend_of(const TrailSet& trails, const std::string& dataset_key, const Query& query,
+                                  const TileRequest& request, int stops, const CoarseAggregateFn* counted) {
   validate(request);
   (void)density::legend(SpanStats{}, request.how, request.cmap, effective_min_level(request),
                         stops);  // fail first
-  const std::shared_ptr<const SpanStats> span = span_for(trails, dataset_key, query, request);
+  const std::shared_ptr<const SpanStats> span =
+      span_of(trails, dataset_key, query, request, counted, nullptr);
   return density::legend(*span, request.how, request.cmap, effective_min_level(request), stops);
 }
 

@@ -52,7 +52,7 @@ Response density_tile(App& app, const Request& req, const PathParams& p) {
 Response density_legend(App& app, const Request& req, const PathParams& p) {
   reject_unknown_params(
       req, params::with_query_keys({"z", "value", "how", "cmap", "size", "kernel", "min_level", "stops"}));
-  const auto ds = app.store->get(p.at("dataset"));
+  const auto ds = app.store->describe(p.at("dataset"));
   const Query q = parse_query(req.query);
   if (!req.query.count("z")) throw invalid_argument("z", "z: the zoom of the tiles is required (?z=)");
   const params::TileCoords c = params::tile_coords(req, {{"z", req.query.at("z")}, {"x", "0"}, {"y", "0"}});
@@ -62,7 +62,8 @@ Response density_legend(App& app, const Request& req, const PathParams& p) {
   shading_params(req, t);
   const auto stops = static_cast<int>(params::integer(req, "stops", 11, 2, limits::kMaxLegendStops));
   const std::string dataset_key = params::dataset_cache_key(ds->id, ds->created);
-  nlohmann::json j = app.density.legend(*ds->trails, dataset_key, q, t, stops).to_json();
+  nlohmann::json j =
+      reads_of(*app.store).density_legend(*ds, app.density, dataset_key, q, t, stops).to_json();
   j["dataset"] = ds->id;
   j["query"] = q.canonical();
   j["z"] = c.z;

@@ -965,19 +965,30 @@ std::string ClickHouseStore::density_tile(const Dataset& ds, density::DensityRen
   const den::Canvas work = grow > 0 ? canvas.with_margin(grow) : canvas;
   std::optional<den::Aggregate> agg = shard_aggregate(ds, q, work, request.value, request.max_gap_seconds);
   if (!agg) return LocalReads{}.density_tile(*whole(ds), renderer, dataset_key, q, request);
-  // The coarse canvas may lie beyond the world's x range (a margin at its edge) where the tile does not:
-  // that aggregate is then drawn from the copy.
-  const den::CoarseAggregateFn coarse = [&](const den::Canvas& c, den::DensityValue value, double gap) {
-    if (auto a = shard_aggregate(ds, q, c, value, gap)) return std::move(*a);
-    return den::aggregate_lines(*whole(ds)->trails, q, c, value, gap, request.backend);
-  };
   const std::shared_ptr<const den::SpanStats> span =
-      renderer.span_for(ds.shape(), dataset_key, q, request, coarse);
+      renderer.span_for(ds.shape(), dataset_key, q, request, coarse_counter(ds, q, request.backend));
   den::AggregateOptions options;
   options.value = request.value;
   options.kernel_radius = request.kernel_radius;
   options.max_gap_seconds = request.max_gap_seconds;
   return std::move(den::shade_tile(den::finish_aggregate(*agg, work, options), *span, request).png);
+}
+
+density::CoarseAggregateFn ClickHouseStore::coarse_counter(const Dataset& ds, const Query& q,
+                                                           Backend backend) const {
+  // A coarse canvas may lie beyond the world's x range (a margin at its edge), or the dataset may need
+  // what shard_aggregate() cannot draw: that aggregate is then drawn from the copy.
+  return [this, &ds, q, backend](const density::Canvas& c, density::DensityValue value, double gap) {
+    if (auto a = shard_aggregate(ds, q, c, value, gap)) return std::move(*a);
+    return density::aggregate_lines(*whole(ds)->trails, q, c, value, gap, backend);
+  };
+}
+
+density::Legend ClickHouseStore::density_legend(const Dataset& ds, density::DensityRenderer& renderer,
+                                                const std::string& dataset_key, const Query& q,
+                                                const density::TileRequest& request, int stops) const {
+  // The span the tiles are shaded with, counted as density_tile() counts it.
+  return renderer.legend(ds.shape(), dataset_key, q, request, stops, coarse_counter(ds, q, request.backend));
 }
 
 void ClickHouseStore::write_catalogue_row(const std::string& id, bool deleted, const Meta& meta,

@@ -45,8 +45,8 @@
 // addresses and extents, written at ingest): the dataset object, the flight list and the positions need
 // nothing more. get() fetches a dataset's rows back into a TrailSet identical to what was put, for the
 // computations that follow every point (the routes without push-down below: flight GeoJSON, bundles,
-// exports, animation, flow and congestion maps, the density legend, and the tiles of a dataset with a
-// flight across 180°); the last kKeptCopies fetched are kept in memory, so the server holds at most that
+// exports, animation, flow and congestion maps, and the tiles and legend of a dataset with a flight across
+// 180°); the last kKeptCopies fetched are kept in memory, so the server holds at most that
 // many copies beside the ones requests in flight still use.
 //
 // Push-down: the scans over points run on the shards, as SQL over the Distributed tables, and the server
@@ -94,7 +94,8 @@
 //    through finish_aggregate() and shade_tile(). Drawn from the copy: datasets with a flight across 180°
 //    (its segments' wrapped copies: a segment's pixels then depend on which world copy meets the canvas,
 //    which the SQL does not enumerate).
-// Not pushed down: the density legend route, bundles, flight GeoJSON, exports, animation, picking,
+//  - density_legend(): the legend of those tiles, from the same span (the same coarse query and cache).
+// Not pushed down: bundles, flight GeoJSON, exports, animation, picking,
 // congestion and flow maps: they follow every sample of the flights they draw and read the copy get()
 // fetches.
 #include <atomic>
@@ -141,6 +142,9 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
                            const std::string& dataset_key, const Query& q,
                            const density::TileRequest& request) const override;
+  density::Legend density_legend(const Dataset& ds, density::DensityRenderer& renderer,
+                                 const std::string& dataset_key, const Query& q,
+                                 const density::TileRequest& request, int stops) const override;
 
   static constexpr std::size_t kBatchRows = 1u << 20;
   /// Fetched copies (get()) kept in memory, most recently used first; older ones are released.
@@ -194,6 +198,9 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   std::optional<density::Aggregate> shard_aggregate(const Dataset& ds, const Query& q,
                                                     const density::Canvas& work, density::DensityValue value,
                                                     double max_gap_seconds) const;
+  /// The coarse aggregate of a tile level's span for DensityRenderer (span_for, legend): shard_aggregate(),
+  /// else on the fetched copy. Holds `ds` by reference: call it while `ds` lives.
+  density::CoarseAggregateFn coarse_counter(const Dataset& ds, const Query& q, Backend backend) const;
   /// Whether the queries can run on the shards for `ds` (its flights cover its points one to one).
   static bool pushable(const Dataset& ds);
   /// Runs a push-down SELECT. The client already moves to the next node of the URL when the one it asks

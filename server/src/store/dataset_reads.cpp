@@ -22,6 +22,12 @@ std::string LocalReads::density_tile(const Dataset& ds, density::DensityRenderer
   return std::move(renderer.render_tile(*ds.trails, dataset_key, q, request).png);
 }
 
+density::Legend LocalReads::density_legend(const Dataset& ds, density::DensityRenderer& renderer,
+                                           const std::string& dataset_key, const Query& q,
+                                           const density::TileRequest& request, int stops) const {
+  return renderer.legend(*ds.trails, dataset_key, q, request, stops);
+}
+
 const DatasetReads& reads_of(const DatasetStore& store) {
   static const LocalReads local;
   if (const auto* own = dynamic_cast<const DatasetReads*>(&store)) return *own;

@@ -34,6 +34,11 @@ class DatasetReads {
   virtual std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
                                    const std::string& dataset_key, const Query& q,
                                    const density::TileRequest& request) const = 0;
+  /// density/renderer.hpp DensityRenderer::legend() of `renderer`: the legend of the tiles `request`
+  /// describes, from the same span they are shaded with.
+  virtual density::Legend density_legend(const Dataset& ds, density::DensityRenderer& renderer,
+                                         const std::string& dataset_key, const Query& q,
+                                         const density::TileRequest& request, int stops) const = 0;
 };
 
 /// compute/'s functions on ds.trails, in this process.
@@ -47,6 +52,9 @@ class LocalReads final : public DatasetReads {
   std::string density_tile(const Dataset& ds, density::DensityRenderer& renderer,
                            const std::string& dataset_key, const Query& q,
                            const density::TileRequest& request) const override;
+  density::Legend density_legend(const Dataset& ds, density::DensityRenderer& renderer,
+                                 const std::string& dataset_key, const Query& q,
+                                 const density::TileRequest& request, int stops) const override;
 };
 
 /// The reads of `store`: its own when it implements DatasetReads, else LocalReads. Never throws.

@@ -128,6 +128,9 @@ class DensityRenderer {
   /// span_for() and legend().
   Legend legend(const TrailSet& trails, const std::string& dataset_key, const Query& query,
                 const TileRequest& request, int stops);
+  /// legend() with the span's coarse aggregate counted by `coarse` (span_for with a CoarseAggregateFn).
+  Legend legend(const TrailSet& extent, const std::string& dataset_key, const Query& query,
+                const TileRequest& request, int stops, const CoarseAggregateFn& coarse);
 
   /// Drops every cached span of a dataset (call when it is deleted or replaced).
   void forget_dataset(std::string_view dataset_key);
@@ -139,6 +142,8 @@ class DensityRenderer {
   std::shared_ptr<const SpanStats> span_of(const TrailSet& trails, const std::string& dataset_key,
                                            const Query& query, const TileRequest& request,
                                            const CoarseAggregateFn* counted, bool* cached);
+  Legend legend_of(const TrailSet& trails, const std::string& dataset_key, const Query& query,
+                   const TileRequest& request, int stops, const CoarseAggregateFn* counted);
   std::unique_ptr<Cache> spans_, coarse_;
 };
 
