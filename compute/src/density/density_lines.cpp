@@ -454,19 +454,19 @@ Aggregate aggregate_lines(const TrailSet& trails, const Query& query, const Canv
   const SegmentPreparer prep(trails, query, canvas, value, max_gap_seconds);
   const bool with_value = value != DensityValue::count;
   Aggregate a = Aggregate::zeros(canvas.width(), canvas.height(), with_value);
+  // One chunk: its segments prepared into `scratch` (reused, so that they stay in cache), then walked.
+  const auto draw_chunk = [&](std::size_t c, LineSegments& scratch, const SegmentGrids& g) {
+    scratch.walk.clear(), scratch.cells.clear();
+    prep.prepare_chunk(c, scratch);
+    walk_segments(scratch, 0, scratch.size(), g);
+    return scratch.size();
+  };
   std::size_t n = 0;
   if (!prep.parallel()) {
     LineSegments scratch = prep.empty();
-    const SegmentGrids g = SegmentGrids::of(a);
-    for (std::size_t c = 0; c < prep.chunks(); ++c) {
-      scratch.walk.clear(), scratch.cells.clear();
-      prep.prepare_chunk(c, scratch);
-      walk_segments(scratch, 0, scratch.size(), g);
-      n += scratch.size();
-    }
+    for (std::size_t c = 0; c < prep.chunks(); ++c) n += draw_chunk(c, scratch, SegmentGrids::of(a));
   } else {
-    // Per thread: the chunk's segments (reused, so that they stay in cache) and a private grid, summed
-    // at the end as density_lines_ref sums its own.
+    // Per thread a scratch and a private grid, summed at the end as density_lines_ref sums its own.
     struct Local {
       LineSegments scratch;
       Aggregate grid;
@@ -477,10 +477,7 @@ Aggregate aggregate_lines(const TrailSet& trails, const Query& query, const Canv
     });
     tbb::parallel_for(std::size_t{0}, prep.chunks(), [&](std::size_t c) {
       Local& l = local.local();
-      l.scratch.walk.clear(), l.scratch.cells.clear();
-      prep.prepare_chunk(c, l.scratch);
-      walk_segments(l.scratch, 0, l.scratch.size(), SegmentGrids::of(l.grid));
-      l.segments += l.scratch.size();
+      l.segments += draw_chunk(c, l.scratch, SegmentGrids::of(l.grid));
     });
     for (const Local& l : local) {
       add_into(a, l.grid);

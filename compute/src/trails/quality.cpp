@@ -25,6 +25,19 @@ double implied_speed_ms(double t_a, double lat_a, double lon_a, double t_b, doub
   return great_circle_m(lat_a, lon_a, lat_b, lon_b) / std::max(std::abs(t_b - t_a), kMinJumpSeconds);
 }
 
+void keep_largest_examples(std::vector<QualityExample>& e) {
+  const auto by = [](const QualityExample& a, const QualityExample& b) {
+    return a.value != b.value ? a.value > b.value
+                              : (a.flight_id != b.flight_id ? a.flight_id < b.flight_id : a.t < b.t);
+  };
+  if (e.size() > kQualityExamples) {
+    std::partial_sort(e.begin(), e.begin() + kQualityExamples, e.end(), by);
+    e.resize(kQualityExamples);
+  } else {
+    std::sort(e.begin(), e.end(), by);
+  }
+}
+
 namespace {
 // Counts and every candidate example of one range of flights; examples are cut to the largest at the end.
 struct Acc {
@@ -34,20 +47,9 @@ struct Acc {
     ++n[kind];
     ex[kind].push_back({id, {}, t, v});
   }
-  // Keeps the kQualityExamples largest (ties: flight id, time), so the merge stays small.
+  // Keeps the kQualityExamples largest, so the merge stays small.
   void trim() {
-    for (auto& e : ex) {
-      const auto by = [](const QualityExample& a, const QualityExample& b) {
-        return a.value != b.value ? a.value > b.value
-                                  : (a.flight_id != b.flight_id ? a.flight_id < b.flight_id : a.t < b.t);
-      };
-      if (e.size() > kQualityExamples) {
-        std::partial_sort(e.begin(), e.begin() + kQualityExamples, e.end(), by);
-        e.resize(kQualityExamples);
-      } else {
-        std::sort(e.begin(), e.end(), by);
-      }
-    }
+    for (auto& e : ex) keep_largest_examples(e);
   }
 };
 

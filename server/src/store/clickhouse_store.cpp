@@ -645,16 +645,25 @@ std::string ClickHouseStore::point_condition(const Query& q, const std::string& 
   return w;
 }
 
+namespace {
+// The ids of the flights passing q's flight filters (icao24, callsign), comma-separated for an SQL IN list:
+// callsign_matches()' patterns are not LIKE's, so they are matched here against the flight table.
+std::string matching_flights(const Dataset& ds, const Query& q) {
+  std::string ids;
+  const auto& flights = ds.flights();
+  for (std::size_t f = 0; f < flights.size(); ++f)
+    if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
+  return ids;
+}
+}  // namespace
+
 std::string ClickHouseStore::point_where(const Dataset& ds, const Query& q) const {
   std::string w = "dataset = " + ClickHouseClient::quote(ds.id);
   if (q.t0) w += " AND hour >= " + std::to_string(hour_of(*q.t0));
   if (q.t1) w += " AND hour <= " + std::to_string(hour_of(*q.t1));
   w += point_condition(q, "t", "alt", "lat", "lon", "on_ground");
   if (!q.icao24.empty() || !q.callsign.empty()) {
-    std::string ids;
-    const auto& flights = ds.flights();
-    for (std::size_t f = 0; f < flights.size(); ++f)
-      if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    const std::string ids = matching_flights(ds, q);
     if (ids.empty()) return "";
     w += " AND flight IN (" + ids + ")";
   }
@@ -763,13 +772,7 @@ QualityReport ClickHouseStore::shard_quality(const Dataset& ds, const Query& q) 
     e.callsign = flights[e.flight_id].callsign;
     counts[kind]->examples.push_back(std::move(e));
   }
-  for (QualityCount* c : counts) {
-    std::sort(c->examples.begin(), c->examples.end(), [](const QualityExample& a, const QualityExample& b) {
-      return a.value != b.value ? a.value > b.value
-                                : (a.flight_id != b.flight_id ? a.flight_id < b.flight_id : a.t < b.t);
-    });
-    if (c->examples.size() > kQualityExamples) c->examples.resize(kQualityExamples);
-  }
+  for (QualityCount* c : counts) keep_largest_examples(c->examples);
   return out;
 }
 
@@ -918,10 +921,7 @@ std::optional<density::Aggregate> ClickHouseStore::shard_aggregate(const Dataset
     cont = "NOT (idx IN (" + begins + "))";
   }
   if (!q.icao24.empty() || !q.callsign.empty()) {
-    std::string ids;
-    const auto& flights = ds.flights();
-    for (std::size_t f = 0; f < flights.size(); ++f)
-      if (q.matches_flight_ids(flights[f])) ids += (ids.empty() ? "" : ",") + std::to_string(f);
+    const std::string ids = matching_flights(ds, q);
     where += " AND flight IN (" + (ids.empty() ? std::string("4294967295") : ids) + ")";
   }
   const bool alt = value == den::DensityValue::altitude;

@@ -69,6 +69,10 @@ struct QualityExample {
   double value = 0;  ///< m/s for speeds and jumps, metres for altitudes
 };
 
+/// Keeps the kQualityExamples largest of `examples`, in check_quality()'s order: value descending, ties by
+/// flight id, then time. (A store that gathers candidates elsewhere cuts them with this too.)
+void keep_largest_examples(std::vector<QualityExample>& examples);
+
 struct QualityCount {
   std::uint64_t count = 0;
   std::vector<QualityExample> examples;  ///< up to kQualityExamples, largest value first (ties: id, t)
