@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -105,6 +106,18 @@ std::string sql_double(double v) {
   char b[40];
   std::snprintf(b, sizeof b, v < 0 ? "(%.17g)" : "%.17g", v);
   return b;
+}
+
+/// Whether `e` is ClickHouse refusing an insert over its quorum: UNKNOWN_STATUS_OF_INSERT (319; the quorum
+/// timed out, a replica did not confirm) or UNSATISFIED_QUORUM_FOR_PREVIOUS_WRITE (286).
+bool quorum_unconfirmed(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const ClickHouseError& c) {
+    return c.code() == 319 || c.code() == 286;
+  } catch (...) {
+  }
+  return false;
 }
 
 std::uint64_t now_version() {
@@ -240,10 +253,40 @@ bool ClickHouseStore::has_rows(const std::string& id) const {
 }
 
 void ClickHouseStore::drop_partitions(const std::string& id) {
+  // Every table's drop is issued even when one fails: a drop that outlives distributed_ddl_task_timeout
+  // (ClickHouse's TIMEOUT_EXCEEDED: a node slow under load, down, or just restarted) stays in ZooKeeper's DDL
+  // queue and still runs on every node, so stopping at the first error would leave the later tables' rows
+  // behind for good. After one such timeout the others are only queued (a timeout of 0 answers at once), so
+  // that a node that is down costs one timeout, not one per table.
+  constexpr int kTimeoutExceeded = 159;
+  std::exception_ptr first;
+  ClickHouseClient::Settings settings;
   for (const char* t : {"points_local", "segments_local", "flights_local", "events_local"})
-    if (quality_events_ || std::string_view(t) != "events_local")
-      client_.query("ALTER TABLE " + db_ + "." + t + " ON CLUSTER " + cluster_ + " DROP PARTITION " +
-                    ClickHouseClient::quote(id));
+    if (quality_events_ || std::string_view(t) != "events_local") try {
+        client_.query("ALTER TABLE " + db_ + "." + t + " ON CLUSTER " + cluster_ + " DROP PARTITION " +
+                          ClickHouseClient::quote(id),
+                      settings);
+      } catch (const ClickHouseError& e) {
+        if (e.code() == kTimeoutExceeded) settings["distributed_ddl_task_timeout"] = "0";
+        if (!first) first = std::current_exception();
+      } catch (const std::exception&) {
+        if (!first) first = std::current_exception();
+      }
+  if (first) std::rethrow_exception(first);
+}
+
+void ClickHouseStore::clear_rows(const std::string& id) {
+  try {
+    drop_partitions(id);
+  } catch (const std::exception&) {
+    // A drop that outlived the DDL timeout still runs from the queue: new rows under `id` must wait for it,
+    // or it would drop them too.
+    const auto until = std::chrono::steady_clock::now() + kDropWait;
+    while (has_rows(id)) {
+      if (std::chrono::steady_clock::now() > until) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    }
+  }
 }
 
 void ClickHouseStore::remove_leftovers() {
@@ -475,7 +518,7 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
   };
   try {
     // Rows of an earlier attempt at this id that never reached the catalogue (a killed CLI ingest).
-    if (has_rows(ds->id)) drop_partitions(ds->id);
+    if (has_rows(ds->id)) clear_rows(ds->id);
     RowBinary rb;
     auto flush = [&](const std::string& table, const std::string& cols, std::size_t rows) {
       if (rows == 0) return;
@@ -571,13 +614,19 @@ void ClickHouseStore::put(std::shared_ptr<const Dataset> ds, const ProgressFn& p
     report(1);
   } catch (...) {
     // Not in the catalogue: invisible; its rows go now or, if the cluster cannot be reached, at the next
-    // start.
-    try {
-      if (has_rows(ds->id)) drop_partitions(ds->id);
-    } catch (const std::exception& ex) {
+    // start. Not now when a replica did not confirm the quorum insert: ClickHouse 18.16 keeps waiting for
+    // that part until the replica has fetched it, and a partition dropped before then leaves it waiting for
+    // a part that no longer exists, refusing every later quorum insert into the table (code 286).
+    if (quorum_unconfirmed(std::current_exception()))
       std::cerr << "store: the rows of the failed ingest of '" << ds->id
-                << "' stay until the next start: " << ex.what() << "\n";
-    }
+                << "' stay until the next start (a replica did not confirm them)\n";
+    else
+      try {
+        if (has_rows(ds->id)) drop_partitions(ds->id);
+      } catch (const std::exception& ex) {
+        std::cerr << "store: the rows of the failed ingest of '" << ds->id
+                  << "' stay until the next start: " << ex.what() << "\n";
+      }
     throw;
   }
   std::lock_guard lock(mu_);

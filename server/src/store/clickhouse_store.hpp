@@ -99,6 +99,7 @@
 // congestion and flow maps: they follow every sample of the flights they draw and read the copy get()
 // fetches.
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -210,7 +211,13 @@ class ClickHouseStore final : public DatasetStore, public DatasetReads {
   /// shard (load_balancing, connect_timeout_with_failover_ms). Throws the last error after that.
   std::string read(const std::string& sql) const;
   static constexpr int kReadAttempts = 4;
+  /// Drops the rows of `id` from every table on every node (ALTER ... ON CLUSTER DROP PARTITION). Tries
+  /// every table, then throws the first failure; a drop that timed out is still queued and runs later.
   void drop_partitions(const std::string& id);
+  /// drop_partitions(), and when a drop timed out, waits up to kDropWait until no node holds rows of `id`
+  /// (the queued drop ran); throws the drop's error after that. Before rows are written under `id`.
+  void clear_rows(const std::string& id);
+  static constexpr std::chrono::seconds kDropWait{120};
   /// One catalogue row of `id` (a dataset, or with `deleted` its tombstone), written with the insert quorum:
   /// the row that makes a dataset visible, or invisible, at once.
   void write_catalogue_row(const std::string& id, bool deleted, const Meta& meta, std::uint64_t points,
