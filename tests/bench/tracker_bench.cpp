@@ -4,6 +4,7 @@
 //
 //   tracker_bench [--scenarios standard,noisy,occluded,cups-attached,fast-motion] [--frames 1000]
 //                 [--seed 1] [--reps 3] [--peers csrt,kcf] [--peer-reps 3] [--param name=value ...]
+//                 [--real DIR [--real-z-max-mm 3000] [--real-passes 20]]
 //
 // Every scenario is synthesised in memory (tof::synthesize, exact ground truth) before anything is timed.
 //
@@ -34,7 +35,16 @@
 // --peers: with its default parameters it took about 0.2 s per frame (four teats) on the 2-core development
 // machine, slower than CSRT and far from real time; add it with --peers csrt,kcf,mil.
 //
-// Records: {"bench":"tracker","scenario",...} for ours, {"bench":"tracker_peer","scenario","peer",...}
+// Real frames (--real DIR, a folder of depth PNGs in mm: the Redwood frames of the shared tracker data): the
+// tracker with its depth gate widened to --real-z-max-mm (the room lies beyond the default 900 mm) on every
+// frame, --real-passes times over the folder, each frame a whole-frame search (a fresh track state: the
+// tracker never leaves SEARCH on frames without teats); beside it the same search on synthetic `standard`
+// frames synthesised at the real frames' size, reset() before each frame so that every one is a whole-frame
+// search too. Same pixels, same work: the two per-frame times show whether real depth (holes, noise,
+// clutter) costs more than the synthetic camera. Teats reported on the real frames: must be 0.
+//
+// Records: {"bench":"tracker","scenario",...} for ours, {"bench":"tracker_real","video",...} for the real
+// frames and their synthetic counterpart, {"bench":"tracker_peer","scenario","peer",...}
 // per peer (or with "skipped" and the reason). NaN and infinities are written as the strings "NaN" and
 // "Infinity" (as the tracker log's JSON does).
 #include <array>
@@ -45,6 +55,7 @@
 
 #include "bench_util.hpp"
 #include "trailscope/tof/depth_video.hpp"
+#include "trailscope/tof/depth_video_io.hpp"
 #include "trailscope/tof/synth.hpp"
 #include "trailscope/tracker/params.hpp"
 #include "trailscope/tracker/tracker.hpp"
@@ -244,6 +255,65 @@ void bench_ours(const std::string& scenario, const tof::DepthVideo& video, const
   log(scenario + " ours: " + std::to_string(fs.p50) + " frames/s (p50 of " + std::to_string(reps) +
       "), 3D median " + std::to_string(acc.median_error_mm) + " mm, within 10 mm " +
       std::to_string(acc.frames_all_within));
+}
+
+// ------------------------------------------------------------------------------------------------
+// Real frames: whole-frame searches on real depth and on synthetic frames of the same size
+
+/// Every frame of `video` searched `passes` times, each from a reset tracker; one record.
+void bench_search(const std::string& label, const tof::DepthVideo& video, const trk::TrackerParams& params,
+                  int passes) {
+  trk::Tracker tracker(params, video.info.intrinsics);
+  std::vector<double> frame_us;
+  std::size_t teats = 0, verified = 0, valid = 0, tracked = 0;
+  double total_s = 0;
+  for (int pass = 0; pass < passes; ++pass)
+    for (const tof::DepthFrame& f : video.frames) {
+      tracker.reset();
+      const auto t0 = Clock::now();
+      const trk::FrameLog log = tracker.process(f);
+      const double us = ms_since(t0) * 1000.0;
+      total_s += us / 1e6;
+      frame_us.push_back(us);
+      if (pass > 0) continue;  // the counts of one pass (the tracker is deterministic)
+      for (const trk::TeatEstimate& t : log.teats) teats += t.visible;
+      verified += static_cast<std::size_t>(log.verified);
+      valid += static_cast<std::size_t>(log.valid_pixels);
+      tracked += log.state == trk::State::track;
+    }
+  const Stats fu = Stats::of(frame_us);
+  const auto& intr = video.info.intrinsics;
+  emit({{"bench", "tracker_real"},
+        {"video", label},
+        {"frames", video.frames.size()},
+        {"passes", passes},
+        {"width", intr.width},
+        {"height", intr.height},
+        {"z_max_mm", params.z_max_mm},
+        {"search_us_p50", number(fu.p50)},
+        {"search_us_p95", number(fu.p95)},
+        {"fps", number(static_cast<double>(frame_us.size()) / total_s)},
+        {"valid_pixels_per_frame", number(static_cast<double>(valid) / video.frames.size())},
+        {"verified_per_frame", number(static_cast<double>(verified) / video.frames.size())},
+        {"teats_reported", teats},
+        {"track_frames", tracked}});
+  log(label + ": whole-frame search " + std::to_string(fu.p50) + " us p50, " + std::to_string(teats) +
+      " teats reported");
+}
+
+void bench_real(const std::string& dir, double z_max_mm, int passes) {
+  const tof::DepthVideo real = tof::read_depth_video(dir);
+  if (real.frames.empty()) throw std::invalid_argument("--real: no frame in " + dir);
+  trk::TrackerParams params;
+  params.z_max_mm = z_max_mm;
+  trk::validate(params);
+  bench_search("real: " + std::filesystem::path(dir).parent_path().filename().string(), real, params, passes);
+  tof::SynthOptions o;
+  o.scenario = tof::Scenario::standard;
+  o.frames = real.frames.size();
+  o.seed = 1;
+  o.width = real.info.intrinsics.width, o.height = real.info.intrinsics.height;
+  bench_search("synthetic standard", tof::synthesize(o), params, passes);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -449,6 +519,9 @@ int main(int argc, char** argv) {
     const int reps = static_cast<int>(a.num("reps", 3));
     const int peer_reps = static_cast<int>(a.num("peer-reps", 3));
     const auto peers = split(a.get("peers", "csrt,kcf"), ',');
+    const std::string real_dir = a.get("real", "");
+    const double real_z_max = a.num("real-z-max-mm", 3000);
+    const int real_passes = static_cast<int>(a.num("real-passes", 20));
     if (reps < 1 || peer_reps < 1) throw std::invalid_argument("--reps and --peer-reps must be >= 1");
     trk::TrackerParams params;
     for (const std::string& kv : a.all("param")) {
@@ -461,7 +534,9 @@ int main(int argc, char** argv) {
     cv::setNumThreads(1);
 #endif
 
+    if (!real_dir.empty()) bench_real(real_dir, real_z_max, real_passes);
     for (const std::string& name : scenarios) {
+      if (name.empty()) continue;  // --scenarios '': the real frames only
       tof::SynthOptions o;
       o.scenario = tof::parse_scenario(name);
       o.frames = frames;
