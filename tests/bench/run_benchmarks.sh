@@ -281,10 +281,12 @@ run "$B/projection_bench" --data-dir "$PROJ_DIR" --score-peers "$PROJ_DIR/peers.
 # MIL (--peers csrt,kcf,mil) is left out: about 0.2 s per frame, it would add over half an hour.
 say "5c. teat tracker on the synthetic ToF scenarios, and OpenCV's CSRT and KCF trackers (peers) on the same frames"
 # First the real depth frames without teats (the Redwood room), each a whole-frame search, beside synthetic
-# frames of the same size.
+# frames of the same size; last, every scenario on the 20 seeds from 1000 on (robustness; never the seeds used
+# while tuning), 1,000 frames each.
 run "$B/tracker_bench" --scenarios standard,noisy,occluded,cups-attached,fast-motion --frames "$TRACKER_FRAMES" \
   --seed 1 --reps "$TRACKER_REPS" --peers csrt,kcf --peer-reps "$TRACKER_PEER_REPS" \
-  --real "$ROOT/../shared/data/tracker/depth_open3d_rgbd/depth"
+  --real "$ROOT/../shared/data/tracker/depth_open3d_rgbd/depth" \
+  --robustness-seeds 1000-1019 --robustness-frames "$TRACKER_FRAMES"
 
 # ---------------------------------------------------------------------------------------------------
 say "5d. losses of separation: all pairs of the Europe SO6 day (5 NM / 1,000 ft, 2,000 ft above FL410)"

@@ -5,6 +5,7 @@
 //   tracker_bench [--scenarios standard,noisy,occluded,cups-attached,fast-motion] [--frames 1000]
 //                 [--seed 1] [--reps 3] [--peers csrt,kcf] [--peer-reps 3] [--param name=value ...]
 //                 [--real DIR [--real-z-max-mm 3000] [--real-passes 20]]
+//                 [--robustness-seeds 1000-1019 [--robustness-frames 1000] [--robustness-only]]
 //
 // Every scenario is synthesised in memory (tof::synthesize, exact ground truth) before anything is timed.
 //
@@ -43,7 +44,14 @@
 // search too. Same pixels, same work: the two per-frame times show whether real depth (holes, noise,
 // clutter) costs more than the synthetic camera. Teats reported on the real frames: must be 0.
 //
-// Records: {"bench":"tracker","scenario",...} for ours, {"bench":"tracker_real","video",...} for the real
+// Robustness (--robustness-seeds A-B): every scenario again on each seed A..B (seeds never used while
+// tuning the tracker; the scenarios above and the tests use seeds 1 and 2), --robustness-frames frames each,
+// one run per seed with default parameters: the acceptance figures of `trailscope track`
+// (tracker::evaluate_accuracy) and frames/s per seed. The same runs as `trailscope synth --scenario S
+// --seed N --frames F` then `trailscope track`.
+//
+// Records: {"bench":"tracker","scenario",...} for ours, {"bench":"tracker_robustness","scenario","seed",...}
+// per seed, {"bench":"tracker_real","video",...} for the real
 // frames and their synthetic counterpart, {"bench":"tracker_peer","scenario","peer",...}
 // per peer (or with "skipped" and the reason). NaN and infinities are written as the strings "NaN" and
 // "Infinity" (as the tracker log's JSON does).
@@ -317,6 +325,35 @@ void bench_real(const std::string& dir, double z_max_mm, int passes) {
 }
 
 // ------------------------------------------------------------------------------------------------
+// Robustness: the acceptance figures on every seed of a range
+
+void bench_robustness(const std::string& scenario, std::uint64_t seed, std::size_t frames,
+                      const trk::TrackerParams& params) {
+  tof::SynthOptions o;
+  o.scenario = tof::parse_scenario(scenario);
+  o.frames = frames;
+  o.seed = seed;
+  const tof::DepthVideo video = tof::synthesize(o);
+  const OursRun r = run_ours(video, params);
+  trk::TrackerLog tlog;
+  tlog.frames = r.logs;
+  for (const tof::DepthFrame& f : video.frames) tlog.truth.push_back(f.truth);
+  const trk::Accuracy acc = trk::evaluate_accuracy(tlog, kWithinMm);
+  emit({{"bench", "tracker_robustness"},
+        {"scenario", scenario},
+        {"seed", seed},
+        {"frames", video.frames.size()},
+        {"fps", number(static_cast<double>(video.frames.size()) / r.total_s)},
+        {"mm_error_median", number(acc.median_error_mm)},
+        {"mm_error_p95", number(acc.p95_error_mm)},
+        {"frames_all_within_10mm", number(acc.frames_all_within)},
+        {"mm_pairs", acc.visible_pairs},
+        {"mm_reported", acc.reported_pairs},
+        {"track_share", number(acc.track_share)},
+        {"lost_episodes", acc.lost_episodes}});
+}
+
+// ------------------------------------------------------------------------------------------------
 // Peers (OpenCV)
 
 #ifdef TRAILSCOPE_BENCH_OPENCV_TRACKING
@@ -522,6 +559,18 @@ int main(int argc, char** argv) {
     const std::string real_dir = a.get("real", "");
     const double real_z_max = a.num("real-z-max-mm", 3000);
     const int real_passes = static_cast<int>(a.num("real-passes", 20));
+    // --robustness-seeds A-B (inclusive), or empty for none.
+    const std::string seed_range = a.get("robustness-seeds", "");
+    std::uint64_t seed_lo = 1, seed_hi = 0;
+    if (!seed_range.empty()) {
+      const auto dash = seed_range.find('-');
+      if (dash == std::string::npos)
+        throw std::invalid_argument("--robustness-seeds wants A-B: " + seed_range);
+      seed_lo = std::stoull(seed_range.substr(0, dash)), seed_hi = std::stoull(seed_range.substr(dash + 1));
+      if (seed_hi < seed_lo || seed_hi - seed_lo >= 1000)
+        throw std::invalid_argument("--robustness-seeds: A <= B, at most 1000 seeds: " + seed_range);
+    }
+    const auto robustness_frames = static_cast<std::size_t>(a.num("robustness-frames", 1000));
     if (reps < 1 || peer_reps < 1) throw std::invalid_argument("--reps and --peer-reps must be >= 1");
     trk::TrackerParams params;
     for (const std::string& kv : a.all("param")) {
@@ -536,7 +585,7 @@ int main(int argc, char** argv) {
 
     if (!real_dir.empty()) bench_real(real_dir, real_z_max, real_passes);
     for (const std::string& name : scenarios) {
-      if (name.empty()) continue;  // --scenarios '': the real frames only
+      if (name.empty() || a.has("robustness-only")) continue;  // --scenarios '': the real frames only
       tof::SynthOptions o;
       o.scenario = tof::parse_scenario(name);
       o.frames = frames;
@@ -560,6 +609,14 @@ int main(int argc, char** argv) {
                "OpenCV's tracking module (opencv_contrib, libopencv-contrib-dev) was not found at "
                "build time"}});
 #endif
+    }
+    for (const std::string& name : scenarios) {
+      if (name.empty() || seed_hi < seed_lo) continue;
+      const auto t0 = Clock::now();
+      for (std::uint64_t seed = seed_lo; seed <= seed_hi; ++seed)
+        bench_robustness(name, seed, robustness_frames, params);
+      log(name + ": robustness over seeds " + seed_range + " in " + std::to_string(ms_since(t0) / 1000.0) +
+          " s");
     }
     return 0;
   } catch (const std::exception& e) {
