@@ -925,9 +925,10 @@ int main(int argc, char** argv) {
                 "depth gate widened to "
              << num(dbl(real, "z_max_mm"), 0)
              << " mm so that the room passes it (the default far end, 900 mm, gates it out whole); every "
-                "frame a whole-frame search from a reset tracker, "
+                "frame a whole-frame search (the tracker held in SEARCH), "
              << str(real, "passes")
-             << " passes. Beside them the same search on synthetic `standard` frames of the same size. A "
+             << " timed passes after one untimed. Beside them the same search on synthetic `standard` frames "
+                "of the same size. A "
                 "search's work grows with the pixels that pass the depth gate, so speed is compared per "
                 "valid pixel. Target: no teat reported on the real frames, at the synthetic frames' speed "
                 "(ns per valid pixel within 25 %).\n\n"
