@@ -868,8 +868,8 @@ int main(int argc, char** argv) {
         body
             << "Robustness (`tracker_bench --robustness-seeds " << lo << "-" << hi
             << "`): every scenario on seeds " << lo << "–" << hi
-            << " (the rule: the 20 seeds from 1000 on, never used while tuning; the table above, the tests "
-               "and the tuning use seeds 1 and 2), "
+            << " (the rule: the 20 seeds from 1000 on, never used while tuning; the table above and the "
+               "tests use seeds 1 and 2, parameters are chosen on seeds from 2000 on), "
             << str(any, "frames")
             << " frames each, default parameters, one run per seed on one core; each seed scored as "
                "`trailscope "
