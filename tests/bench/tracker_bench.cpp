@@ -46,7 +46,8 @@
 // real frames: must be 0.
 //
 // Robustness (--robustness-seeds A-B): every scenario again on each seed A..B (seeds never used while
-// tuning the tracker; the scenarios above and the tests use seeds 1 and 2), --robustness-frames frames each,
+// tuning the tracker; the scenarios above and the tests use seeds 1 and 2, tuning seeds from 2000 on),
+// --robustness-frames frames each,
 // one run per seed with default parameters: the acceptance figures of `trailscope track`
 // (tracker::evaluate_accuracy) and frames/s per seed. The same runs as `trailscope synth --scenario S
 // --seed N --frames F` then `trailscope track`.
@@ -187,6 +188,23 @@ bool same_tips(const std::vector<trk::FrameLog>& a, const std::vector<trk::Frame
   return true;
 }
 
+/// The acceptance figures of `trailscope track` (tracker::evaluate_accuracy) for `logs` of `video`, put
+/// into `j` (mm_* figures, frames_all_within_10mm, track_share, lost_episodes) and returned.
+trk::Accuracy score(const tof::DepthVideo& video, const std::vector<trk::FrameLog>& logs, json& j) {
+  trk::TrackerLog tlog;
+  tlog.frames = logs;
+  for (const tof::DepthFrame& f : video.frames) tlog.truth.push_back(f.truth);
+  const trk::Accuracy acc = trk::evaluate_accuracy(tlog, kWithinMm);
+  j["mm_pairs"] = acc.visible_pairs;
+  j["mm_reported"] = acc.reported_pairs;
+  j["mm_error_median"] = number(acc.median_error_mm);
+  j["mm_error_p95"] = number(acc.p95_error_mm);
+  j["frames_all_within_10mm"] = number(acc.frames_all_within);
+  j["track_share"] = number(acc.track_share);
+  j["lost_episodes"] = acc.lost_episodes;
+  return acc;
+}
+
 void bench_ours(const std::string& scenario, const tof::DepthVideo& video, const trk::TrackerParams& params,
                 int reps) {
   std::vector<OursRun> runs;
@@ -238,17 +256,7 @@ void bench_ours(const std::string& scenario, const tof::DepthVideo& video, const
 
   // Accuracy of the first run.
   const std::vector<trk::FrameLog>& logs = runs.front().logs;
-  trk::TrackerLog tlog;
-  tlog.frames = logs;
-  for (const tof::DepthFrame& f : video.frames) tlog.truth.push_back(f.truth);
-  const trk::Accuracy acc = trk::evaluate_accuracy(tlog, kWithinMm);
-  j["mm_pairs"] = acc.visible_pairs;
-  j["mm_reported"] = acc.reported_pairs;
-  j["mm_error_median"] = number(acc.median_error_mm);
-  j["mm_error_p95"] = number(acc.p95_error_mm);
-  j["frames_all_within_10mm"] = number(acc.frames_all_within);
-  j["track_share"] = number(acc.track_share);
-  j["lost_episodes"] = acc.lost_episodes;
+  const trk::Accuracy acc = score(video, logs, j);
   PxErrors px;
   for (std::size_t i = 0; i < logs.size(); ++i) {
     if (!video.frames[i].truth) continue;
@@ -338,22 +346,13 @@ void bench_robustness(const std::string& scenario, std::uint64_t seed, std::size
   o.seed = seed;
   const tof::DepthVideo video = tof::synthesize(o);
   const OursRun r = run_ours(video, params);
-  trk::TrackerLog tlog;
-  tlog.frames = r.logs;
-  for (const tof::DepthFrame& f : video.frames) tlog.truth.push_back(f.truth);
-  const trk::Accuracy acc = trk::evaluate_accuracy(tlog, kWithinMm);
-  emit({{"bench", "tracker_robustness"},
-        {"scenario", scenario},
-        {"seed", seed},
-        {"frames", video.frames.size()},
-        {"fps", number(static_cast<double>(video.frames.size()) / r.total_s)},
-        {"mm_error_median", number(acc.median_error_mm)},
-        {"mm_error_p95", number(acc.p95_error_mm)},
-        {"frames_all_within_10mm", number(acc.frames_all_within)},
-        {"mm_pairs", acc.visible_pairs},
-        {"mm_reported", acc.reported_pairs},
-        {"track_share", number(acc.track_share)},
-        {"lost_episodes", acc.lost_episodes}});
+  json j{{"bench", "tracker_robustness"},
+         {"scenario", scenario},
+         {"seed", seed},
+         {"frames", video.frames.size()},
+         {"fps", number(static_cast<double>(video.frames.size()) / r.total_s)}};
+  score(video, r.logs, j);
+  emit(j);
 }
 
 // ------------------------------------------------------------------------------------------------
