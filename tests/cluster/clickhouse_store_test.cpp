@@ -710,7 +710,9 @@ TEST(ClickHouseStore, IngestKilledMidwayLeavesNothingVisible) {
     // machine), from ZooKeeper's DDL queue a little later.
     auto server = open_cluster(true);
     EXPECT_FALSE(server->contains(id)) << point;
-    EXPECT_EQ(eventually([&] { return rows(*server, id); }, "0\n0\n0\n"), "0\n0\n0\n") << point;
+    // clang 14 cannot capture a structured binding (P1091 came in clang 16): copy the id.
+    const std::string dataset = id;
+    EXPECT_EQ(eventually([&] { return rows(*server, dataset); }, "0\n0\n0\n"), "0\n0\n0\n") << point;
   }
 }
 
