@@ -65,10 +65,14 @@ TimeIndex::TimeIndex(const PointColumns& p, const std::vector<Flight>& flights) 
   }
   const double hi = run;
 
-  // Buckets of 10 minutes (a multiple when the span is long: at most kMaxBuckets), cells of a tenth of a
-  // bucket (a minute), both from a multiple of the bucket width.
+  // Buckets of 10 minutes (a multiple when the span is long: at most kMaxBuckets, and at most one per
+  // kMinPointsPerBucket points), cells of a tenth of a bucket (a minute), both from a multiple of the
+  // bucket width. The second bound keeps the index's cost in proportion to the points: every bucket holds
+  // ~10 KiB of histograms per thread, so a few points spread over a year would otherwise cost 1,024 of them.
   const double tens = std::floor(hi / 600) - std::floor(lo / 600) + 1;
-  const double k = std::max(1.0, std::ceil(tens / static_cast<double>(kMaxBuckets)));
+  const double most = std::clamp(std::floor(static_cast<double>(p.size()) / kMinPointsPerBucket), 1.0,
+                                 static_cast<double>(kMaxBuckets));
+  const double k = std::max(1.0, std::ceil(tens / most));
   bucket_s_ = 600 * k, fine_s_ = 60 * k;
   origin_ = std::floor(lo / bucket_s_) * bucket_s_;
   const auto nb = static_cast<std::size_t>(std::floor((hi - origin_) / bucket_s_)) + 1;

@@ -267,6 +267,40 @@ TEST_F(FleetIndex, FilteredQueriesEqualTheScan) {
   EXPECT_GT(s.points, 0u);
 }
 
+// A few points over a year: one bucket per kMinPointsPerBucket points at most (not kMaxBuckets of ~10 KiB
+// each), and the summary of any window is still the scan's.
+TEST(TimeIndex, SparseSetGetsFewWideBuckets) {
+  constexpr std::size_t n = 3 * TimeIndex::kMinPointsPerBucket;
+  PointColumns p;
+  p.resize(n);
+  const double year = 365.0 * 86400;
+  for (std::size_t i = 0; i < n; ++i) {
+    p.t[i] = 1.7e9 + year * static_cast<double>(i) / (n - 1);
+    p.lat[i] = 50, p.lon[i] = 8 + 0.001 * static_cast<double>(i), p.alt[i] = 1000 + i, p.speed[i] = 200;
+  }
+  std::vector<Flight> f(1);
+  f[0].begin = 0, f[0].end = n;
+  compute_extents(f[0], p);
+  const TrailSet set(p, f);
+  const TimeIndex& ix = set.time_index();
+  ASSERT_TRUE(ix.valid());
+  // Three by the point count, one more where the buckets' alignment (origin a multiple of their width)
+  // splits the span.
+  EXPECT_LE(ix.buckets().size(), 4u);
+  EXPECT_EQ(std::fmod(ix.bucket_seconds(), 600.0), 0.0);
+  EXPECT_GE(ix.bucket_seconds() * static_cast<double>(ix.buckets().size()), year);
+  EXPECT_LT(ix.bytes(), 64u * 1024);
+  std::uint64_t total = 0;
+  for (const auto& b : ix.buckets()) total += b.points;
+  EXPECT_EQ(total, n);
+  for (const double frac : {0.0, 0.2, 0.5}) {
+    Query q;
+    q.t0 = 1.7e9 + frac * year, q.t1 = 1.7e9 + (frac + 0.5) * year;
+    expect_same(summarize(set, q, {}), summarize_scan(set, q, {}), "sparse");
+  }
+  expect_same(summarize(set, Query{}, {}), summarize_scan(set, Query{}, {}), "sparse, whole");
+}
+
 // A set whose flights are not in start order has no index, and the summary is the scan's.
 TEST(TimeIndex, UnorderedFlightsHaveNone) {
   PointColumns p;

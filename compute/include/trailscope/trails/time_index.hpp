@@ -5,12 +5,12 @@
 //  - the flights' start order (TrailSetBuilder gives flights in start order) with a running maximum of
 //    their end times: the flights that may meet [t0, t1) are one index range, found by two binary
 //    searches; within a flight the points of the window are one range too (points are time-sorted);
-//  - per time bucket (bucket_seconds(), 10 minutes for data spanning up to kMaxBuckets of them (a week),
-//    else a multiple of 10 minutes) the additive part of a summary of all its points: count, first and last
-//    time, altitude histograms in both units (ft and m) over the bins summarize() uses for this set, the
-//    speed histogram of 0.25 m/s bins, and the known-speed count, sum, min and max; plus point counts per
-//    fine cell (fine_seconds(), a minute when buckets are hours), from which any time histogram whose bins
-//    are whole multiples of a fine cell follows exactly;
+//  - per time bucket (bucket_seconds(): 10 minutes, or a multiple of 10 minutes when the data spans more
+//    than kMaxBuckets of them (a week) or has fewer than kMinPointsPerBucket points per bucket) the additive
+//    part of a summary of all its points: count, first and last time, altitude histograms in both units
+//    (ft and m) over the bins summarize() uses for this set, the speed histogram of 0.25 m/s bins, and the
+//    known-speed count, sum, min and max; plus point counts per fine cell (fine_seconds(), a tenth of a
+//    bucket), from which any time histogram whose bins are whole multiples of a fine cell follows exactly;
 //  - every implausible value check_quality() can report (trails/quality.hpp) with the time of its sample
 //    and, for a jump, of the sample before it: the quality of a time window is the events inside it.
 // The fast summary (summary.cpp) adds the whole buckets inside a window and scans only the partial
@@ -34,6 +34,9 @@ class TimeIndex {
  public:
   /// Most time buckets; longer spans get wider ones (a year: 9-hour buckets of 54-minute cells).
   static constexpr std::size_t kMaxBuckets = 1024;
+  /// At most one bucket per this many points (a small set gets wide buckets, so its index costs in
+  /// proportion to its points, not to its time span; summaries of its narrow windows scan).
+  static constexpr std::size_t kMinPointsPerBucket = 64;
   /// The index keeps quality events only while they are at most this fraction of the points (real data
   /// has a handful per flight at worst); beyond it summaries take the plain scan (`quality_indexed()`).
   static constexpr double kMaxEventFraction = 0.25;
