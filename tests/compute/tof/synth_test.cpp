@@ -1,8 +1,10 @@
-// The synthetic ToF camera: determinism, ground truth against the rendered depth, the noise model on a
-// flat wall, the cup interval, option validation.
+// The synthetic ToF camera: determinism, ground truth against the rendered depth, the sensor model (shot
+// noise, ambient light, motion within the exposure, multipath), the cup interval, option validation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "test_support.hpp"
@@ -98,37 +100,169 @@ TEST(Synth, VisibleTipsAreWhereTheDepthSaysTheyAre) {
   }
 }
 
+// The speed of light in mm/s and the range per radian of phase at the sensor's modulation (4 pi f / c
+// rad per mm of range: the light goes there and back).
+constexpr double kLightMmPerS = 299'792'458e3;
+double rad_per_mm(const ToFSensor& s) {
+  return 4 * std::numbers::pi * s.modulation_hz / kLightMmPerS;
+}
+
+// A sensor without noise or holes: a huge well of electrons, no ambient light, no read noise.
+ToFSensor ideal_sensor(ToFSensor s = {}) {
+  s.electrons_per_unit = 1e9, s.full_well_e = 1e30, s.ambient_e = 0, s.read_noise_e = 0;
+  s.dropout = 0, s.min_amplitude = 0, s.grazing_cos = 0;
+  return s;
+}
+
 // The wall of the `plane` scenario faces the camera; the noise-free render of the same seed is the truth.
-// sigma = floor + gain * sqrt(1000 / amplitude), amplitude = 1000 * 0.8 * cos / (range / 1 m)^2 (synth.hpp):
-// on the optical axis 0.5 + 4 * (z / 1000) / sqrt(0.8) mm. Measured on the central 24x24 px.
-TEST(Synth, DepthNoiseGrowsWithDistanceOnAFlatWall) {
+// Shot noise of a four-sample lock-in pixel (Lange & Seitz 2001; synth.hpp): each difference of two
+// samples has variance B + read^2 (B the electrons per sample: signal / contrast + ambient), so the
+// phase has sd sqrt((B + read^2) / 2) / A and the range L / (2 pi) times that (L = c / (2 f)); A = the
+// amplitude in electrons, a0 * 0.8 * cos / (range / 1 m)^2 units of electrons_per_unit each; z's sd is the
+// range's over |d| (d = the pixel's ray with z = 1). Measured on the central 24x24 px against the mean
+// variance the model predicts there.
+TEST(Synth, DepthNoiseFollowsShotNoiseOnAFlatWall) {
   const std::size_t n = 86;  // wall at 150 + 10 * i mm
   const ToFSynth noisy(options(Scenario::plane, n, 9)), exact(options(Scenario::plane, n, 9, true));
+  const ToFSensor sensor = scenario_sensor(Scenario::plane);
   const Intrinsics& k = noisy.info().intrinsics;
   EXPECT_FALSE(noisy.info().has_truth);
   std::vector<double> measured;
   for (std::size_t f : {15u, 45u, 75u}) {  // 300, 600, 900 mm
     const DepthFrame a = noisy.render(f), b = exact.render(f);
     EXPECT_FALSE(a.truth);
-    double sum = 0, sum2 = 0;
+    const double z = 150.0 + 10.0 * f;
+    double sum = 0, sum2 = 0, model2 = 0;
     int count = 0;
     for (int v = k.height / 2 - 12; v < k.height / 2 + 12; ++v)
       for (int u = k.width / 2 - 12; u < k.width / 2 + 12; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
-        EXPECT_NEAR(b.depth_mm[i], 150.0 + 10.0 * f, 1e-3);  // the noise-free wall is exact
-        if (std::isnan(a.depth_mm[i])) continue;             // dropouts
+        EXPECT_NEAR(b.depth_mm[i], z, 1e-3);      // the noise-free wall is exact
+        if (std::isnan(a.depth_mm[i])) continue;  // dropouts
         const double r = a.depth_mm[i] - b.depth_mm[i];
         sum += r, sum2 += r * r, ++count;
+        const double dn = std::hypot((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0), range = z * dn;
+        const double amp = sensor.electrons_per_unit * sensor.a0 * 1e6 * 0.8 / dn / (range * range);
+        const double electrons =
+            amp / sensor.demod_contrast + sensor.ambient_e + sensor.read_noise_e * sensor.read_noise_e;
+        const double sd_z = std::sqrt(electrons / 2) / amp / rad_per_mm(sensor) / dn;
+        model2 += sd_z * sd_z;
       }
     EXPECT_GT(count, 540);  // of 576: dropouts are 0.3%
-    const double mean = sum / count, sd = std::sqrt(sum2 / count - mean * mean);
-    const double z = 150.0 + 10.0 * f, model = 0.5 + 4.0 * (z / 1000.0) / std::sqrt(0.8);
+    const double mean = sum / count, sd = std::sqrt(sum2 / count - mean * mean),
+                 model = std::sqrt(model2 / count);
+    // The wall moves 10 mm a frame: the two sample pairs, half an exposure apart, see it 0.125 mm apart,
+    // a bias far below this bound (DepthOfAMovingWallIsTheTwoInstantsPhase has the exact one).
     EXPECT_NEAR(mean, 0.0, 4 * model / std::sqrt(count));
     EXPECT_NEAR(sd, model, 0.12 * model) << "z = " << z;
     measured.push_back(sd);
   }
   EXPECT_LT(measured[0], measured[1]);
   EXPECT_LT(measured[1], measured[2]);
+}
+
+// More ambient light, more noise: at 900 mm with sunlight's 1,200,000 e- per sample (the noisy scenario's
+// ambient) the wall's depth noise is several times the indoor one.
+TEST(Synth, AmbientLightAddsNoise) {
+  SynthOptions o = options(Scenario::plane, 86, 9);
+  const DepthFrame exact = ToFSynth(options(Scenario::plane, 86, 9, true)).render(75);
+  const auto sd_of = [&](double ambient) {
+    ToFSensor s = scenario_sensor(Scenario::plane);
+    s.ambient_e = ambient, s.dropout = 0;
+    o.sensor = s;
+    const DepthFrame a = ToFSynth(o).render(75);
+    double sum2 = 0;
+    int count = 0;
+    for (std::size_t i = 0; i < a.depth_mm.size(); ++i)
+      if (!std::isnan(a.depth_mm[i])) sum2 += std::pow(a.depth_mm[i] - exact.depth_mm[i], 2), ++count;
+    return std::sqrt(sum2 / count);
+  };
+  const double indoor = sd_of(scenario_sensor(Scenario::standard).ambient_e);
+  const double sunlit = sd_of(scenario_sensor(Scenario::noisy).ambient_e);
+  EXPECT_GT(sunlit, 2.5 * indoor) << indoor << " " << sunlit;
+}
+
+// Motion within the exposure (synth.hpp): the pixel's sample pairs 0/180 and 90/270 deg are taken a
+// quarter of the exposure before and after the timestamp. A wall moving 10 mm a frame, with an exposure of
+// a whole frame, is 2.5 mm nearer at the first pair and 2.5 mm farther at the second; the measured phase
+// is atan2(A2 sin p2, A1 cos p1) of the two returns (amplitude A ~ cos / range^2, phase p = k * range).
+// Computed here from that alone and compared pixel by pixel (no noise).
+TEST(Synth, DepthOfAMovingWallIsTheTwoInstantsPhase) {
+  SynthOptions o = options(Scenario::plane, 86, 9);
+  ToFSensor s = ideal_sensor();
+  s.exposure_s = 1.0 / o.fps;
+  o.sensor = s;
+  const ToFSynth synth(o);
+  const Intrinsics& k = synth.info().intrinsics;
+  const double kp = rad_per_mm(s);
+  for (std::size_t f : {15u, 45u}) {
+    const DepthFrame a = synth.render(f);
+    const double z = 150.0 + 10.0 * f, z1 = z - 2.5, z2 = z + 2.5;
+    double worst = 0, bias = 0;
+    for (int v = 0; v < k.height; v += 7)
+      for (int u = 0; u < k.width; u += 5) {
+        const double dn = std::hypot((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+        const double r1 = z1 * dn, r2 = z2 * dn, a1 = 1 / (r1 * r1), a2 = 1 / (r2 * r2);
+        const double expected = std::atan2(a2 * std::sin(kp * r2), a1 * std::cos(kp * r1)) / kp / dn;
+        const float got = a.depth_mm[static_cast<std::size_t>(v) * k.width + u];
+        ASSERT_FALSE(std::isnan(got));
+        worst = std::max(worst, std::abs(got - expected));
+        bias = std::max(bias, std::abs(expected - z));
+      }
+    EXPECT_LT(worst, 0.01) << "frame " << f;
+    EXPECT_GT(bias, 0.5) << "frame " << f;  // the artefact is there, not the mean depth
+  }
+}
+
+// Multipath (synth.hpp): light that reaches a surface by way of another arrives later, so depth reads too
+// far wherever surfaces face each other, never too near; a flat wall has none; twice the indirect light,
+// about twice the bias (the indirect return is small beside the direct one).
+TEST(Synth, MultipathPushesConcaveRegionsAwayAndSparesAFlatWall) {
+  const auto render = [](Scenario sc, double multipath, std::size_t f) {
+    SynthOptions o = options(sc, 60, 4);
+    ToFSensor s = ideal_sensor();
+    s.exposure_s = 0, s.multipath = multipath;
+    o.sensor = s;
+    return ToFSynth(o).render(f);
+  };
+  const DepthFrame wall0 = render(Scenario::plane, 0, 30), wall1 = render(Scenario::plane, 1, 30);
+  for (std::size_t i = 0; i < wall0.depth_mm.size(); ++i) ASSERT_EQ(wall0.depth_mm[i], wall1.depth_mm[i]);
+
+  const DepthFrame none = render(Scenario::standard, 0, 40), one = render(Scenario::standard, 1, 40),
+                   two = render(Scenario::standard, 2, 40);
+  // Pixels off depth edges (mixed pixels blend two surfaces, whose indirect light the sum shifts either way).
+  const int W = 176, H = 144;
+  const auto smooth = [&](int u, int v) {
+    const float z = none.depth_mm[static_cast<std::size_t>(v) * W + u];
+    if (std::isnan(z) || z > 900) return false;
+    for (const auto& [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const float o = none.depth_mm[static_cast<std::size_t>(v + dv) * W + u + du];
+      if (std::isnan(o) || std::abs(o - z) > ToFSensor{}.edge_mm) return false;
+    }
+    return true;
+  };
+  std::vector<double> d1;
+  double sum1 = 0, sum2 = 0, lowest = 0;
+  for (int v = 1; v + 1 < H; ++v)
+    for (int u = 1; u + 1 < W; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * W + u;
+      if (!smooth(u, v)) continue;
+      const double b1 = one.depth_mm[i] - none.depth_mm[i], b2 = two.depth_mm[i] - none.depth_mm[i];
+      lowest = std::min(lowest, b1);
+      d1.push_back(b1);
+      sum1 += b1, sum2 += b2;
+    }
+  ASSERT_GT(d1.size(), 5000u);
+  std::sort(d1.begin(), d1.end());
+  EXPECT_GT(lowest, -0.05);  // never nearer (beyond the little noise left)
+  // Seed 4, frame 40: median 0.09 mm, 90th percentile 1.3 mm, 99th 16 mm, at most 42 mm, the largest
+  // where the belly meets the udder at grazing incidence, whose weak direct return (a tenth of a teat's)
+  // the light from the facing surface outweighs most.
+  EXPECT_GT(d1[d1.size() * 9 / 10], 0.5);
+  EXPECT_LT(d1[d1.size() * 99 / 100], 25.0);
+  EXPECT_LT(d1.back(), 60.0);
+  EXPECT_GT(sum2 / sum1, 1.6);
+  EXPECT_LT(sum2 / sum1, 2.2);
 }
 
 TEST(Synth, CupsHideTheTeatsInTheirIntervalAndComeOff) {
@@ -201,6 +335,15 @@ TEST(Synth, OptionsAreValidated) {
       [] { parse_scenario("rainy"); }, Error::Kind::invalid_argument, "scenario",
       "scenario must be one of standard, noisy, occluded, cups-attached, fast-motion, plane, not 'rainy'");
   EXPECT_EQ(parse_scenario("cups-attached"), Scenario::cups_attached);
+  o = {};
+  o.sensor = ToFSensor{};
+  o.sensor->dropout = 2;
+  test::expect_error([&] { ToFSynth s(o); }, Error::Kind::invalid_argument, "sensor.dropout",
+                     "sensor.dropout must be in [0, 1]");
+  o.sensor = ToFSensor{};
+  o.sensor->exposure_s = 0.05;  // longer than a frame at 25 fps
+  test::expect_error([&] { ToFSynth s(o); }, Error::Kind::invalid_argument, "sensor.exposure_s",
+                     "sensor.exposure_s must be in [0, 1 / fps]");
   // Any size renders; intrinsics keep the field of view.
   o = {};
   o.width = 320;

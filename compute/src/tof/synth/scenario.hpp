@@ -34,24 +34,11 @@ struct TailParams {
   double swat_interval_s = 4.0, swat_duration_s = 1.0, swat_forward_deg = 24;
 };
 
-struct SensorParams {
-  double a0 = 1000;             ///< amplitude of a white wall at 1 m head-on
-  double sigma_floor_mm = 0.5;  ///< depth noise floor
-  double sigma_gain_mm = 4.0;   ///< depth noise at amplitude 1000
-  double dropout = 0.003;       ///< random no-return probability per pixel
-  double grazing_cos = 0.12;    ///< no return below this cos(incidence)
-  double min_amplitude = 25;    ///< no return below
-  double saturation = 30000;    ///< no return at or above (amplitude clips here)
-  double max_range_mm = 5000;   ///< no surface beyond: no return
-  double modulation_hz = 30e6;  ///< phasor mixing of flying pixels
-  double edge_mm = 25;          ///< depth jump that makes a pixel a flying-pixel candidate
-};
-
 struct ScenarioParams {
   MotionParams motion;
   CameraParams camera;
   TailParams tail;
-  SensorParams sensor;
+  ToFSensor sensor;                        ///< scenario_sensor (synth.hpp)
   double leg_x_mm = 200, leg_y_mm = -170;  ///< hind legs at (+-x, y) in the cow frame
   enum class Cups { none, one, all } cups = Cups::none;
 };

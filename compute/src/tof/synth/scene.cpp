@@ -198,6 +198,25 @@ std::vector<FrameState> plan_motion(const ScenarioParams& p, const Cow& cow, con
   return states;
 }
 
+FrameState interpolate(const FrameState& a, const FrameState& b, double w) {
+  // The result as a value of the arguments' type: an Eigen expression returned from a lambda would refer
+  // to temporaries that are gone by the time it is evaluated.
+  const auto mix = [w]<typename T>(const T& x, const T& y) -> T { return x + w * (y - x); };
+  FrameState s = a;
+  s.t = mix(a.t, b.t);
+  s.cow_offset = mix(a.cow_offset, b.cow_offset);
+  s.yaw = mix(a.yaw, b.yaw);
+  for (int i = 0; i < 2; ++i) s.leg_offset[i] = mix(a.leg_offset[i], b.leg_offset[i]);
+  s.tail_lateral = mix(a.tail_lateral, b.tail_lateral);
+  s.tail_forward = mix(a.tail_forward, b.tail_forward);
+  for (int k = 0; k < kTeatCount; ++k) s.cup[k] = mix(a.cup[k], b.cup[k]);
+  s.camera = mix(a.camera, b.camera);
+  const Eigen::Quaterniond qa(a.world_to_camera), qb(b.world_to_camera);
+  s.world_to_camera = qa.slerp(w, qb).toRotationMatrix();
+  s.wall_mm = mix(a.wall_mm, b.wall_mm);
+  return s;
+}
+
 SceneFrame build_scene(const Cow& cow, const FrameState& s, const ScenarioParams& p, Scenario scenario,
                        const Intrinsics& k) {
   SceneFrame scene;

@@ -49,6 +49,11 @@ struct FrameState {
 std::vector<FrameState> plan_motion(const ScenarioParams& p, const Cow& cow, const CupPlan& cups,
                                     Scenario scenario, std::size_t frames, double fps, std::uint64_t seed);
 
+/// The state a fraction w of the way from a to b (0 gives a, 1 gives b): positions, angles and cups
+/// linearly, the camera's orientation by a quaternion slerp. For the instants within one exposure (the
+/// motion between two frames is smooth at that scale).
+FrameState interpolate(const FrameState& a, const FrameState& b, double w);
+
 /// A teat in camera coordinates.
 struct TeatView {
   Vec3 surface, dir, apex;

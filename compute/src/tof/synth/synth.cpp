@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "render.hpp"
@@ -14,6 +15,32 @@
 #include "trailscope/core/limits.hpp"
 
 namespace trailscope::tof {
+
+namespace {
+// The ranges ToFSensor documents; the first field out of range is named.
+void check_sensor(const ToFSensor& x, double fps) {
+  const auto need = [](bool ok, const char* field, const char* range) {
+    if (!ok)
+      throw invalid_argument(std::string("sensor.") + field,
+                             std::string("sensor.") + field + " must be " + range);
+  };
+  const auto fin = [](double v) { return std::isfinite(v); };
+  need(fin(x.a0) && x.a0 > 0, "a0", "> 0");
+  need(fin(x.electrons_per_unit) && x.electrons_per_unit > 0, "electrons_per_unit", "> 0");
+  need(fin(x.demod_contrast) && x.demod_contrast > 0 && x.demod_contrast <= 1, "demod_contrast", "in (0, 1]");
+  need(fin(x.ambient_e) && x.ambient_e >= 0, "ambient_e", ">= 0");
+  need(fin(x.read_noise_e) && x.read_noise_e >= 0, "read_noise_e", ">= 0");
+  need(fin(x.full_well_e) && x.full_well_e > 0, "full_well_e", "> 0");
+  need(fin(x.min_amplitude) && x.min_amplitude >= 0, "min_amplitude", ">= 0");
+  need(fin(x.grazing_cos) && x.grazing_cos >= 0 && x.grazing_cos < 1, "grazing_cos", "in [0, 1)");
+  need(fin(x.dropout) && x.dropout >= 0 && x.dropout <= 1, "dropout", "in [0, 1]");
+  need(fin(x.max_range_mm) && x.max_range_mm > 0, "max_range_mm", "> 0");
+  need(fin(x.modulation_hz) && x.modulation_hz > 0, "modulation_hz", "> 0");
+  need(fin(x.edge_mm) && x.edge_mm > 0, "edge_mm", "> 0");
+  need(fin(x.multipath) && x.multipath >= 0 && x.multipath <= 10, "multipath", "in [0, 10]");
+  need(fin(x.exposure_s) && x.exposure_s >= 0 && x.exposure_s <= 1 / fps, "exposure_s", "in [0, 1 / fps]");
+}
+}  // namespace
 
 struct ToFSynth::Impl {
   SynthOptions options;
@@ -53,15 +80,20 @@ ToFSynth::ToFSynth(const SynthOptions& o) : impl_(std::make_unique<Impl>()) {
   k.cy = (o.height - 1) / 2.0;
   s.info.frame_count = o.frames;
   s.info.fps = o.fps;
-  // Saturation is 30000 units (SensorParams): 0.5 units per count keeps it within 16 bits.
+  // Amplitudes clip at 32000 units (render.cpp): 0.5 units per count keeps them within 16 bits.
   s.info.amplitude_scale = 0.5;
   s.info.has_amplitude = true;
   s.info.has_truth = o.scenario != Scenario::plane;
   s.info.source = {{"generator", "trailscope synth"},
+                   {"camera", std::string(kSynthCamera)},
                    {"scenario", std::string(to_string(o.scenario))},
                    {"seed", o.seed},
                    {"noise_free", o.noise_free}};
   s.params = synth::scenario_params(o.scenario);
+  if (o.sensor) {
+    check_sensor(*o.sensor, o.fps);
+    s.params.sensor = *o.sensor;
+  }
   s.cow = synth::draw_cow(o.seed);
   s.cups = synth::plan_cups(s.params, o.frames, o.fps, o.seed);
   s.states = synth::plan_motion(s.params, s.cow, s.cups, o.scenario, o.frames, o.fps, o.seed);
@@ -90,14 +122,28 @@ DepthFrame ToFSynth::render(std::size_t index) const {
   if (index >= s.options.frames)
     throw invalid_argument("frame", "frame " + std::to_string(index) + " does not exist (the video has " +
                                         std::to_string(s.options.frames) + " frames)");
-  const synth::SceneFrame scene =
-      synth::build_scene(s.cow, s.states[index], s.params, s.options.scenario, s.info.intrinsics);
+  const auto scene_of = [&](const synth::FrameState& state) {
+    return synth::build_scene(s.cow, state, s.params, s.options.scenario, s.info.intrinsics);
+  };
+  const synth::SceneFrame scene = scene_of(s.states[index]);
+  // The scene when the two pairs of samples are taken (motion artefacts, synth.hpp): a quarter of the
+  // exposure towards the previous and the next frame; the first and last frames see no motion beyond
+  // themselves.
+  std::optional<synth::SceneFrame> first, last;
+  const double quarter = 0.25 * s.params.sensor.exposure_s * s.options.fps;  // in frames, <= 0.25
+  if (!s.options.noise_free && quarter > 0) {
+    first = scene_of(index > 0 ? synth::interpolate(s.states[index], s.states[index - 1], quarter)
+                               : s.states[index]);
+    last = scene_of(index + 1 < s.states.size()
+                        ? synth::interpolate(s.states[index], s.states[index + 1], quarter)
+                        : s.states[index]);
+  }
   synth::Rng rng(s.options.seed, 0x100000000ull + index);
   DepthFrame frame;
   frame.timestamp_s = static_cast<double>(index) / s.options.fps;
   FrameTruth truth;
-  synth::render_frame(scene, s.info.intrinsics, s.params.sensor, s.options.noise_free, rng, frame,
-                      s.info.has_truth ? &truth : nullptr);
+  synth::render_frame(scene, first ? &*first : nullptr, last ? &*last : nullptr, s.info.intrinsics,
+                      s.params.sensor, s.options.noise_free, rng, frame, s.info.has_truth ? &truth : nullptr);
   if (s.info.has_truth) frame.truth = truth;
   return frame;
 }
