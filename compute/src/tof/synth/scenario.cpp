@@ -55,7 +55,7 @@ ScenarioParams scenario_params(Scenario s) {
       break;
     case Scenario::noisy:
       // The realistic worst case of the same camera (synth.hpp, scenario_sensor): sunlight through the
-      // barn door puts 60 times the indoor ambient into every sample (the 850 nm band-pass filter lets
+      // barn door puts 600 times the indoor ambient into every sample (the 850 nm band-pass filter lets
       // through what the sun emits in its band); a soiled, wet lens window passes a third of the light,
       // scatters some pixels away (3 % dropouts) and makes the camera's own confidence filter stricter;
       // the camera answers the weak return by integrating four times longer, so motion smears more.
