@@ -231,7 +231,7 @@ TEST(Synth, MultipathPushesConcaveRegionsAwayAndSparesAFlatWall) {
   const DepthFrame none = render(Scenario::standard, 0, 40), one = render(Scenario::standard, 1, 40),
                    two = render(Scenario::standard, 2, 40);
   // Pixels off depth edges (mixed pixels blend two surfaces, whose indirect light the sum shifts either way).
-  const int W = 176, H = 144;
+  const int W = SynthOptions{}.width, H = SynthOptions{}.height;
   const auto smooth = [&](int u, int v) {
     const float z = none.depth_mm[static_cast<std::size_t>(v) * W + u];
     if (std::isnan(z) || z > 900) return false;

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <utility>
-#include <complex>
 
 namespace trailscope::tof::synth {
 namespace {
@@ -254,10 +254,11 @@ std::vector<Phasor> multipath(const SceneFrame& scene, const std::vector<Hit>& h
   for (int v = 0; v < H; ++v)
     for (int u = 0; u < W; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * W + u;
-      Vec3 x, n;
-      double r;
-      if (!surface(u, v, &x, &n, &r)) continue;
       const Hit& h = hits[i];
+      if (h.prim < 0) continue;
+      // The surface point and its normal are needed only where no receiver stands for the pixel.
+      const double r = h.t * caster.ray(u, v).norm();
+      if (r > sensor.max_range_mm) continue;
       Phasor e = 0;
       if (u % rs == 0 && v % rs == 0) {
         e = grid[static_cast<std::size_t>(v / rs) * gw + u / rs];
@@ -275,7 +276,14 @@ std::vector<Phasor> multipath(const SceneFrame& scene, const std::vector<Hit>& h
           e += w * grid[static_cast<std::size_t>(cv) * gw + cu];
           wsum += w;
         }
-        e = wsum > 0 ? e / wsum : received(x, n);
+        if (wsum > 0) {
+          e /= wsum;
+        } else {
+          Vec3 x, n;
+          double range;
+          surface(u, v, &x, &n, &range);
+          e = received(x, n);
+        }
       }
       out[i] = scale * prims[h.prim].reflectivity * e * phase(r);
     }
@@ -387,7 +395,7 @@ void render_frame(const SceneFrame& scene, const SceneFrame* first, const SceneF
       // (a quarter of the exposure before the frame's timestamp) and 90 and 270 deg at the next (a
       // quarter after), each of the scene as it is then. The indirect part moves too slowly to matter.
       Phasor at[4] = {mid, mid, mid, mid};
-      if (first) {
+      if (caster_first) {
         double ci;
         at[0] = at[2] = pixel_return(*caster_first, hits_first, u, v, &ci);
         at[1] = at[3] = pixel_return(*caster_last, hits_last, u, v, &ci);
