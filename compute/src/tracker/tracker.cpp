@@ -50,6 +50,9 @@ constexpr double kSameTipMm = 8.0;
 constexpr double kSameTipPx = 2.0;
 // How fast the udder model follows what it sees (per tracked frame).
 constexpr double kModelRate = 0.05;
+// A verified candidate within this share of d_gate_mm of an unmatched teat's prediction teaches the teat's
+// radius (relearn_radius).
+constexpr double kRadiusEvidenceGate = 0.5;
 // How fast the learnt offsets between teats follow what is seen (per frame that sees both).
 constexpr double kOffsetRate = 0.1;
 // Largest error (mm) of every pair distance of a candidate taken for a lost teat by the model alone.
@@ -308,6 +311,27 @@ struct Tracker::Impl {
     }
   }
 
+  // A teat's learnt radius gates its candidates (radius_tol_mm), so a radius learnt wrong (a first fit
+  // clamped at r_max, a tip first seen from the side) would shut the teat out for good: every later fit
+  // of it is refused, and only accepted fits teach the model. A verified candidate close to the prediction
+  // of a teat left unmatched is evidence of its radius all the same; the model follows it at the model's
+  // rate, so one stray fit moves it little and a run of them re-admits the teat within a few frames.
+  void relearn_radius(const std::vector<detail::ModelCandidate>& mc, const detail::Labelling& l,
+                      const std::array<std::optional<V3>, 4>& pred) {
+    for (int t = 0; t < 4; ++t) {
+      if (l[t] >= 0 || !pred[t] || !(model.radius[t] > 0)) continue;
+      int best = -1;
+      double best_d = kRadiusEvidenceGate * p.d_gate_mm;
+      for (int j = 0; j < static_cast<int>(mc.size()); ++j) {
+        bool used = false;
+        for (int x : l) used |= x == j;
+        const double d = (mc[j].tip - *pred[t]).norm();
+        if (!used && d < best_d) best_d = d, best = j;
+      }
+      if (best >= 0) model.radius[t] += kModelRate * (mc[best].radius - model.radius[t]);
+    }
+  }
+
   // Learns where each teat sits relative to each other (camera frame), from frames that see both.
   void learn_offsets(const std::vector<detail::ModelCandidate>& mc, const detail::Labelling& l) {
     for (int a = 0; a < 4; ++a)
@@ -381,6 +405,7 @@ struct Tracker::Impl {
       detect_and_verify(windows, log, mc, mc_to_log, seeds, priors);
       t0 = Clock::now();
       label = detail::assign_tracked(mc, pred, model, p);
+      relearn_radius(mc, label, pred);
       log.model = detail::model_metrics(mc, label, model, p);
       tracked_ok = log.model.teats_matched >= p.min_teats && log.model.cost <= p.model_max;
       log.times.model_us += us_since(t0);

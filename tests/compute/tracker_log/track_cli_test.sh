@@ -60,7 +60,7 @@ contains "--help shows unit, range and default" "[mm, 0..5000, default 80]" "$TM
 check "compare exit" 0 $?
 check "compare shared range" "5 30" "$(json '" ".join(map(str, [d["first_frame"], d["frames"]]))' < "$TMP/cmp.json")"
 check "compare series per run" "30 30" "$(json '" ".join(str(len(s["state"])) for s in d["series"])' < "$TMP/cmp.json")"
-check "compare differing parameter first" "ncc_min True [0.6, 0.35]" "$(json '" ".join(map(str, [d["params"][0]["name"], d["params"][0]["differs"], d["params"][0]["values"]]))' < "$TMP/cmp.json")"
+check "compare differing parameter first" "ncc_min True [0.6, 0.25]" "$(json '" ".join(map(str, [d["params"][0]["name"], d["params"][0]["differs"], d["params"][0]["values"]]))' < "$TMP/cmp.json")"
 check "compare top" True "$(json 'len(d["disagreements"]) <= 3' < "$TMP/cmp.json")"
 "$BIN" compare "$TMP/run.tslog" > "$TMP/out.txt" 2> "$TMP/err"
 check "compare one run exit" 2 $?

@@ -28,7 +28,7 @@
 namespace trailscope::tracker {
 
 /// Tracker version written into every log; bump when results change.
-inline constexpr std::string_view kTrackerVersion = "trailscope-tracker 1.3";
+inline constexpr std::string_view kTrackerVersion = "trailscope-tracker 1.4";
 
 enum class State { search, track, lost };
 std::string_view to_string(State s);  ///< "SEARCH", "TRACK", "LOST"
