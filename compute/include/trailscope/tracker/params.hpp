@@ -46,7 +46,9 @@ struct TrackerParams {
   double d_gate_mm = 22;     ///< a teat's match must lie within this distance of its prediction, mm, 1..500
   int n_lost = 4;            ///< frames with fewer than min_teats matched before TRACK turns LOST, 1..1000
   int n_confirm = 2;         ///< consistent SEARCH frames before TRACK, 1..1000
-  int min_teats = 2;         ///< teats a frame needs matched to count as tracked, 1..4
+  /// Teats a frame needs matched to count as tracked, 1..4 (in TRACK a single teat matched within half
+  /// the gate of its prediction also counts).
+  int min_teats = 2;
   /// Process noise: acceleration spectral density, mm/s^2, 0..1e7. A teat under a swaying udder changes
   /// velocity within a few frames; 4000 (up to tracker 1.3) made the filtered tip lag 8-13 mm behind a
   /// fast-motion udder. 1e5 follows it and still smooths the fit's noise (tracker 1.4; see the README).
