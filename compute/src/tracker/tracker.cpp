@@ -343,8 +343,8 @@ struct Tracker::Impl {
   // frames, and a labelling by the model's pair distances needs three teats (two candidates fit any pair
   // of equal length, either way round). The learnt offsets are vectors, and two candidates whose
   // difference is one teat pair's offset, with both radii that pair's, are that pair; taken only when no
-  // other pair or order comes close (kPairUnique), and like every acquisition only once confirmed by the
-  // next frame (n_confirm).
+  // other pair or order comes within kPairUnique times its error (so, alone, within kRescueMm / kPairUnique),
+  // and like every acquisition only once confirmed by the next frame (n_confirm).
   std::optional<detail::Labelling> acquire_pair(const std::vector<detail::ModelCandidate>& mc) const {
     const int n = static_cast<int>(mc.size());
     double best = kRescueMm, second = INFINITY;
@@ -455,7 +455,8 @@ struct Tracker::Impl {
       // cup or the image border hides three teats, the fourth is still where the track says it is.
       if (!tracked_ok && log.model.teats_matched == 1)
         for (int t = 0; t < 4; ++t)
-          if (label[t] >= 0 && pred[t] && (mc[label[t]].tip - *pred[t]).norm() <= kSingleTeatGate * p.d_gate_mm)
+          if (label[t] >= 0 && pred[t] &&
+              (mc[label[t]].tip - *pred[t]).norm() <= kSingleTeatGate * p.d_gate_mm)
             tracked_ok = log.model.cost <= p.model_max;
       log.times.model_us += us_since(t0);
       if (!tracked_ok) {

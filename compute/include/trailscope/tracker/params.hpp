@@ -43,9 +43,9 @@ struct TrackerParams {
   double w_ncc = 20.0;          ///< weight of (1 - NCC) in the model cost (mm per unit), 0..1000
   double model_max = 22;        ///< largest accepted model cost, mm, 0..1000
   // --- state machine and Kalman filter ---
-  double d_gate_mm = 22;     ///< a teat's match must lie within this distance of its prediction, mm, 1..500
-  int n_lost = 4;            ///< frames with fewer than min_teats matched before TRACK turns LOST, 1..1000
-  int n_confirm = 2;         ///< consistent SEARCH frames before TRACK, 1..1000
+  double d_gate_mm = 22;  ///< a teat's match must lie within this distance of its prediction, mm, 1..500
+  int n_lost = 4;         ///< frames with fewer than min_teats matched before TRACK turns LOST, 1..1000
+  int n_confirm = 2;      ///< consistent SEARCH frames before TRACK, 1..1000
   /// Teats a frame needs matched to count as tracked, 1..4 (in TRACK a single teat matched within half
   /// the gate of its prediction also counts).
   int min_teats = 2;
