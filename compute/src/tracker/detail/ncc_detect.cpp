@@ -230,6 +230,7 @@ void NccDetector::correlate(const cv::Mat1f& img, const TipTemplate& t, cv::Mat1
 std::vector<Match> NccDetector::detect(const std::vector<SearchWindow>& windows) const {
   std::vector<Match> peaks;
   for (const auto& w : windows) {
+    const double min_score = std::max(p_.ncc_min, w.min_score);
     for (int ti : w.templates) {
       const TipTemplate& t = bank_[ti];
       const cv::Mat1f& img = height_[scale_index(t.scale)];
@@ -251,7 +252,7 @@ std::vector<Match> NccDetector::detect(const std::vector<SearchWindow>& windows)
       for (int y = 0; y < ncc.rows; ++y)
         for (int x = 0; x < ncc.cols; ++x) {
           const float c = ncc(y, x);
-          if (!(c >= p_.ncc_min) || c > 1.0001f) continue;
+          if (!(c >= min_score) || c > 1.0001f) continue;
           bool is_max = true;
           for (int dy = -1; dy <= 1 && is_max; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {

@@ -41,9 +41,11 @@ struct Match {
 struct SearchWindow {
   int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
   std::vector<int> templates;
+  double min_score = 0;  ///< NCC a match here needs besides ncc_min (the larger of the two applies)
 };
 
-/// Correlates every window with its templates; returns local NCC maxima >= ncc_min, strongest first,
+/// Correlates every window with its templates; returns local NCC maxima >= ncc_min (and the window's
+/// min_score), strongest first,
 /// merged across templates and windows (a weaker peak within 0.8 template radii of a stronger one is the
 /// same tip), at most max_candidates.
 class NccDetector {
