@@ -53,7 +53,7 @@ const std::vector<Row>& rows() {
       whole("templates", "", &P::templates, 1, 8, "tip templates in the NCC bank"),
       real("template_min_px", "px", &P::template_min_px, 1.5, 40, "tip radius of the smallest template"),
       real("template_max_px", "px", &P::template_max_px, 1.5, 40, "tip radius of the largest template"),
-      real("ncc_min", "", &P::ncc_min, 0, 1, "NCC score a match needs"),
+      real("ncc_min", "", &P::ncc_min, 0, 1, "NCC score a match needs (inside TRACK windows at least 0.3)"),
       whole("max_candidates", "", &P::max_candidates, 1, 200, "NCC matches kept per frame, best first"),
       real("r_min_mm", "mm", &P::r_min_mm, 1, 100, "smallest plausible teat radius"),
       real("r_max_mm", "mm", &P::r_max_mm, 1, 100, "largest plausible teat radius"),

@@ -25,6 +25,7 @@ struct TrackerParams {
   /// the cow) correlates with the rounded-tip templates at 0.3-0.45, below 0.35 in most frames, and the
   /// first acquisition waits for all four teats: 0.35 left cups-attached seed 2001 searching for its first
   /// 108 frames. The 3D fit rejects what the lower score lets in (tracker 1.4: 0.25; see the README).
+  /// Inside TRACK windows a match needs at least 0.3 (tracker.cpp, kTrackWindowNcc).
   double ncc_min = 0.25;
   /// NCC matches kept per frame (best first), 1..200. Each costs a 3D fit, and beyond the tenth they are
   /// clutter: a noisy whole frame has ~18. Keeping 10 instead of 24 made the noisy synthetic scenario
