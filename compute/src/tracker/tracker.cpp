@@ -77,6 +77,11 @@ constexpr double kCarriedSd = 6.0;
 // Confidence of a teat carried by prediction decays by this factor per frame.
 constexpr double kConfidenceDecay = 0.8;
 
+// Whether candidate j is already some teat's in labelling l.
+bool labelled(const detail::Labelling& l, int j) {
+  return std::find(l.begin(), l.end(), j) != l.end();
+}
+
 // A tracked teat's axis, offered to matches within reach_px of its predicted pixel.
 struct AxisPrior {
   double u = 0, v = 0, reach_px = 0;
@@ -303,10 +308,7 @@ struct Tracker::Impl {
       int best = -1;
       double best_err = kRescueMm;
       for (int j = 0; j < static_cast<int>(mc.size()); ++j) {
-        bool used = false;
-        for (int x : l) used |= x == j;
-        if (used || (model.radius[t] > 0 && std::fabs(mc[j].radius - model.radius[t]) > p.radius_tol_mm))
-          continue;
+        if (labelled(l, j) || !model.radius_fits(t, mc[j].radius, p)) continue;
         double worst = 0;
         int pairs = 0;
         for (int i = 0; i < 6; ++i) {
@@ -338,10 +340,8 @@ struct Tracker::Impl {
       int best = -1;
       double best_d = kRadiusEvidenceGate * p.d_gate_mm;
       for (int j = 0; j < static_cast<int>(mc.size()); ++j) {
-        bool used = false;
-        for (int x : l) used |= x == j;
         const double d = (mc[j].tip - *pred[t]).norm();
-        if (!used && d < best_d) best_d = d, best = j;
+        if (!labelled(l, j) && d < best_d) best_d = d, best = j;
       }
       if (best >= 0) model.radius[t] += kModelRate * (mc[best].radius - model.radius[t]);
     }
@@ -357,8 +357,9 @@ struct Tracker::Impl {
     const int n = static_cast<int>(mc.size());
     double best = kRescueMm, second = INFINITY;
     detail::Labelling out{-1, -1, -1, -1};
+    // Both radii must be learnt: two teats are too few to name without them.
     const auto radius_ok = [&](int t, int j) {
-      return model.radius[t] > 0 && std::fabs(mc[j].radius - model.radius[t]) <= p.radius_tol_mm;
+      return model.radius[t] > 0 && model.radius_fits(t, mc[j].radius, p);
     };
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
@@ -378,8 +379,8 @@ struct Tracker::Impl {
             }
           }
       }
-    if (out[0] < 0 && out[1] < 0 && out[2] < 0 && out[3] < 0) return std::nullopt;
-    if (second < kPairUnique * best) return std::nullopt;
+    // best < kRescueMm exactly when a pair was found (it starts there).
+    if (!(best < kRescueMm) || second < kPairUnique * best) return std::nullopt;
     return out;
   }
 

@@ -90,6 +90,10 @@ bool UdderModel::knows_shape() const {
   return n >= 3;
 }
 
+bool UdderModel::radius_fits(int t, double r_mm, const TrackerParams& p) const {
+  return !(radius[t] > 0) || std::fabs(r_mm - radius[t]) <= p.radius_tol_mm;
+}
+
 ModelMetrics model_metrics(const std::vector<ModelCandidate>& c, const Labelling& l, const UdderModel& m,
                            const TrackerParams& p) {
   ModelMetrics mm;
@@ -155,7 +159,7 @@ std::optional<Labelling> acquire(const std::vector<ModelCandidate>& c, const Udd
       bool used = false;
       for (int k = 0; k < t; ++k) used |= l[k] == j;
       if (used) continue;
-      if (m.radius[t] > 0 && std::fabs(c[j].radius - m.radius[t]) > p.radius_tol_mm) continue;
+      if (!m.radius_fits(t, c[j].radius, p)) continue;
       l[t] = j;
       if (pair_ok(t)) self(self, t + 1);
       l[t] = -1;
@@ -189,7 +193,7 @@ Labelling assign_tracked(const std::vector<ModelCandidate>& c,
       if (used) continue;
       const double d = (c[j].tip - *pred[t]).norm();
       if (d > p.d_gate_mm) continue;
-      if (m.radius[t] > 0 && std::fabs(c[j].radius - m.radius[t]) > p.radius_tol_mm) continue;
+      if (!m.radius_fits(t, c[j].radius, p)) continue;
       l[t] = j;
       self(self, t + 1, cost + d + p.w_ncc * (1.0 - std::max(c[j].ncc, 0.0)));
       l[t] = -1;

@@ -27,6 +27,9 @@ struct UdderModel {
   std::array<double, 4> radius{};  ///< mm; 0 = not learnt
   UdderModel();
   bool knows_shape() const;
+  /// Whether a candidate of radius r_mm may be teat t: any radius while t's is not learnt, else one within
+  /// p.radius_tol_mm of it.
+  bool radius_fits(int t, double r_mm, const TrackerParams& p) const;
 };
 
 /// Candidate index per teat (-1 = none).
